@@ -1,0 +1,70 @@
+#pragma once
+// A process's configuration: one YAML document (usually an experiment file) with one top-level
+// section per component, plus command-line overrides. Each component reads its own section into
+// its parameter struct; the `run` section is shared by all.
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "components/runtime/params.h"
+
+namespace dmpl {
+
+// Settings every process shares (section `run`).
+struct RunParams {
+  std::string lcm_url;             // empty: --lcm-url, else $LCM_DEFAULT_URL, else the default
+  int64_t seed = 1;                // noise and anything random derive from (seed, seq)
+  bool lockstep = true;            // false: real time
+  double tick_timeout_s = 2.0;     // lockstep: a missing answer after this long is a fault
+  int max_tick_faults = 5;         // lockstep: give up (exit non-zero) after this many faults
+  double heartbeat_period_s = 0.25;
+  std::vector<std::string> lockstep_participants = {"dmpl_noise", "dmpl_ik", "dmpl_controller"};
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(lcm_url));
+    a->Visit(DMPL_NVP(seed));
+    a->Visit(DMPL_NVP(lockstep));
+    a->Visit(DMPL_NVP(tick_timeout_s));
+    a->Visit(DMPL_NVP(max_tick_faults));
+    a->Visit(DMPL_NVP(heartbeat_period_s));
+    a->Visit(DMPL_NVP(lockstep_participants));
+  }
+};
+
+inline constexpr char kDefaultLcmUrl[] = "udpm://239.255.76.67:7667?ttl=0";
+
+// The top-level sections a config may have. Anything else is a typo and an error.
+const std::vector<std::string>& KnownConfigSections();
+
+// The resolved configuration of one process.
+class Config {
+ public:
+  Config() : root_(YAML::NodeType::Map) {}
+
+  // Builds from a file (may be empty: all defaults), --params overlays and --set overrides.
+  static Config Resolve(const std::string& file, const std::vector<std::string>& params_files,
+                        const std::vector<std::string>& set_overrides);
+
+  // Reads section `name` into `out` (a missing section keeps the defaults).
+  template <typename T>
+  void Load(const std::string& name, T* out) const {
+    const YAML::Node& root = root_;
+    YAML::Node section = root[name];
+    if (!section.IsDefined() || section.IsNull()) return;
+    YamlReadArchive::Load(section, source_, name, out);
+  }
+
+  const YAML::Node& root() const { return root_; }
+  const std::string& source() const { return source_; }
+
+ private:
+  YAML::Node root_;
+  std::string source_ = "(defaults)";
+};
+
+// The LCM URL: --lcm-url, else run.lcm_url, else $LCM_DEFAULT_URL, else kDefaultLcmUrl.
+std::string ResolveLcmUrl(const std::string& cli_url, const RunParams& run);
+
+}  // namespace dmpl

@@ -1,0 +1,206 @@
+#include "components/runtime/node.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdlib>
+#include <iostream>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+
+#include "components/runtime/channels.h"
+#include "components/runtime/clock.h"
+#include "dmpl/heartbeat_t.hpp"
+
+namespace dmpl {
+namespace {
+
+std::atomic<int> g_stop_signal{0};
+
+void OnStopSignal(int sig) { g_stop_signal.store(sig); }
+
+}  // namespace
+
+void InstallStopSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+int StopSignal() { return g_stop_signal.load(); }
+
+std::shared_ptr<spdlog::logger> MakeLogger(const std::string& name) {
+  if (auto existing = spdlog::get(name)) return existing;
+  auto logger = spdlog::stderr_color_mt(name);
+  logger->set_pattern("[%H:%M:%S.%e] [%n] [%^%l%$] %v");
+  const char* level = std::getenv("DMPL_LOG_LEVEL");
+  logger->set_level(level ? spdlog::level::from_str(level) : spdlog::level::info);
+  return logger;
+}
+
+Node::Node(std::string name, lcm::LCM* lcm)
+    : name_(std::move(name)), lcm_(lcm), logger_(MakeLogger(name_)) {}
+
+void Node::AddTimer(double period_s, std::function<void()> fn) {
+  timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn)});
+}
+
+void Node::RequestExit(int exit_code) {
+  exit_requested_ = true;
+  exit_code_ = std::max(exit_code_, exit_code);
+}
+
+void Node::set_status(int8_t state, std::string text) {
+  state_ = state;
+  status_text_ = std::move(text);
+}
+
+Executor::Executor(lcm::LCM* lcm, double heartbeat_period_s)
+    : lcm_(lcm), heartbeat_period_s_(heartbeat_period_s) {}
+
+void Executor::Add(Node* node) { nodes_.push_back(node); }
+
+void Executor::PublishHeartbeats(int8_t state) {
+  for (Node* node : nodes_) {
+    heartbeat_t hb;
+    hb.utime = WallMicros();
+    hb.seq = node->tick_;
+    hb.process = node->name_;
+    hb.pid = static_cast<int32_t>(getpid());
+    hb.state = node->state_ == heartbeat_t::FAULT ? heartbeat_t::FAULT : state;
+    hb.count = node->heartbeats_++;
+    hb.status = node->status_text_;
+    lcm_->publish(channels::kHeartbeat, &hb);
+  }
+}
+
+int Executor::Spin() {
+  for (Node* node : nodes_) node->OnStart();
+  PublishHeartbeats(heartbeat_t::RUNNING);
+  double next_heartbeat = MonotonicSeconds() + heartbeat_period_s_;
+  auto any_exit = [&] {
+    return std::any_of(nodes_.begin(), nodes_.end(), [](Node* n) { return n->exit_requested_; });
+  };
+  while (StopSignal() == 0 && !any_exit()) {
+    // Wait for traffic, but not past the next timer.
+    double now = MonotonicSeconds();
+    double next = next_heartbeat;
+    for (Node* node : nodes_) {
+      for (const auto& t : node->timers_) next = std::min(next, t.next_s);
+    }
+    const int timeout_ms = std::clamp(static_cast<int>((next - now) * 1000.0) + 1, 0, 50);
+    const int handled = lcm_->handleTimeout(timeout_ms);
+    if (handled < 0 && StopSignal() == 0) {
+      nodes_.front()->log().error("LCM handleTimeout failed; stopping");
+      nodes_.front()->RequestExit(1);
+      break;
+    }
+    now = MonotonicSeconds();
+    for (Node* node : nodes_) {
+      for (auto& t : node->timers_) {
+        if (now >= t.next_s) {
+          t.next_s = std::max(t.next_s + t.period_s, now);
+          t.fn();
+        }
+      }
+    }
+    if (now >= next_heartbeat) {
+      PublishHeartbeats(heartbeat_t::RUNNING);
+      next_heartbeat = now + heartbeat_period_s_;
+    }
+  }
+  PublishHeartbeats(heartbeat_t::STOPPING);
+  for (Node* node : nodes_) node->OnStop();
+  int code = 0;
+  for (Node* node : nodes_) code = std::max(code, node->exit_code_);
+  if (const int sig = StopSignal(); sig != 0 && code == 0) {
+    // Asked to stop: a clean shutdown, not a failure.
+    return 0;
+  }
+  return code;
+}
+
+NodeCommandLine ParseNodeCommandLine(int argc, char** argv) {
+  NodeCommandLine cl;
+  auto need_value = [&](int& i, const std::string& flag) -> std::string {
+    if (i + 1 >= argc) throw ConfigError("command line: " + flag + " needs a value");
+    return argv[++i];
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--config") {
+      cl.config_file = need_value(i, arg);
+    } else if (arg == "--params") {
+      cl.params_files.push_back(need_value(i, arg));
+    } else if (arg == "--set") {
+      cl.set_overrides.push_back(need_value(i, arg));
+    } else if (arg == "--lcm-url") {
+      cl.lcm_url = need_value(i, arg);
+    } else if (arg == "--name") {
+      cl.name = need_value(i, arg);
+    } else if (arg == "--print-config") {
+      cl.print_config = true;
+    } else if (arg == "--help" || arg == "-h") {
+      cl.help = true;
+    } else if (arg.rfind("--", 0) == 0) {
+      throw ConfigError("command line: unknown option '" + arg + "' (try --help)");
+    } else {
+      cl.positional.push_back(arg);
+    }
+  }
+  return cl;
+}
+
+int RunNodeMain(int argc, char** argv, const std::string& default_name, const std::string& usage,
+                const std::function<std::unique_ptr<Node>(const NodeContext&)>& make) {
+  NodeContext ctx;
+  NodeCommandLine cl;
+  try {
+    cl = ParseNodeCommandLine(argc, argv);
+    if (cl.help) {
+      std::cout << "usage: " << default_name
+                << " [--config FILE] [--params FILE]... [--set key=value]... [--lcm-url URL]"
+                   " [--name NAME] [--print-config]\n"
+                << usage << "\n";
+      return 0;
+    }
+    ctx.name = cl.name.empty() ? default_name : cl.name;
+    ctx.config = Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
+    ctx.config.Load("run", &ctx.run);
+  } catch (const std::exception& e) {
+    std::cerr << default_name << ": " << e.what() << "\n";
+    return 2;
+  }
+  auto log = MakeLogger(ctx.name);
+  const std::string url = ResolveLcmUrl(cl.lcm_url, ctx.run);
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    log->critical("cannot open LCM at '{}' (is there a multicast route on lo? see README)", url);
+    return 3;
+  }
+  ctx.lcm = &lcm;
+  std::unique_ptr<Node> node;
+  try {
+    node = make(ctx);
+  } catch (const std::exception& e) {
+    log->critical("{}", e.what());
+    return 2;
+  }
+  if (cl.print_config) {
+    std::cout << YAML::Dump(ctx.config.root()) << "\n";
+    return 0;
+  }
+  InstallStopSignalHandlers();
+  log->info("started (pid {}, lcm {}, {})", getpid(), url,
+            ctx.run.lockstep ? "lockstep" : "real time");
+  Executor executor(&lcm, ctx.run.heartbeat_period_s);
+  executor.Add(node.get());
+  const int code = executor.Spin();
+  log->info("stopped (exit code {})", code);
+  return code;
+}
+
+}  // namespace dmpl

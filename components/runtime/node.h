@@ -1,0 +1,119 @@
+#pragma once
+// The component runtime: a Node is the thin LCM side of a component (subscribe, call the core,
+// publish). An Executor runs one or more nodes on one LCM instance: one node per process in the
+// multi-process mode, all of them on memq:// in the one-process mode.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+#include <spdlog/spdlog.h>
+
+#include "components/runtime/config.h"
+
+namespace dmpl {
+
+class Node {
+ public:
+  Node(std::string name, lcm::LCM* lcm);
+  virtual ~Node() = default;
+  Node(const Node&) = delete;
+  Node& operator=(const Node&) = delete;
+
+  const std::string& name() const { return name_; }
+  spdlog::logger& log() const { return *logger_; }
+  lcm::LCM& lcm() const { return *lcm_; }
+
+  // Called once by the executor after every node was constructed (subscriptions exist).
+  virtual void OnStart() {}
+  // Called once when the executor stops, before destruction.
+  virtual void OnStop() {}
+
+  // Runs `fn` every `period_s` seconds of wall time from the executor's loop.
+  void AddTimer(double period_s, std::function<void()> fn);
+
+  // Ends the executor's loop; the process exits with the largest code any node asked for.
+  void RequestExit(int exit_code);
+  bool exit_requested() const { return exit_requested_; }
+  int exit_code() const { return exit_code_; }
+
+  // What the heartbeat reports.
+  void set_tick(int64_t seq) { tick_ = seq; }
+  int64_t tick() const { return tick_; }
+  void set_status(int8_t state, std::string text);
+
+ private:
+  friend class Executor;
+  struct Timer {
+    double period_s;
+    double next_s;
+    std::function<void()> fn;
+  };
+
+  std::string name_;
+  lcm::LCM* lcm_;
+  std::shared_ptr<spdlog::logger> logger_;
+  std::vector<Timer> timers_;
+  bool exit_requested_ = false;
+  int exit_code_ = 0;
+  int64_t tick_ = -1;
+  int8_t state_ = 0;
+  std::string status_text_;
+  int64_t heartbeats_ = 0;
+};
+
+class Executor {
+ public:
+  Executor(lcm::LCM* lcm, double heartbeat_period_s);
+  void Add(Node* node);
+  // Handles LCM traffic and timers until a stop signal or a node asks to exit. Returns the exit
+  // code: 0, a node's code, or 128+signal after SIGINT/SIGTERM.
+  int Spin();
+
+ private:
+  void PublishHeartbeats(int8_t state);
+  lcm::LCM* lcm_;
+  double heartbeat_period_s_;
+  std::vector<Node*> nodes_;
+};
+
+// Installs SIGINT/SIGTERM handlers that ask every executor in the process to stop.
+void InstallStopSignalHandlers();
+// The signal that asked to stop, or 0.
+int StopSignal();
+
+// A logger named after the process (spdlog), level from $DMPL_LOG_LEVEL (default info).
+std::shared_ptr<spdlog::logger> MakeLogger(const std::string& name);
+
+// The command line every node understands:
+//   --config FILE  --params FILE (overlay, repeatable)  --set key=value (repeatable)
+//   --lcm-url URL  --name NAME  --print-config  --help
+struct NodeCommandLine {
+  std::string config_file;
+  std::vector<std::string> params_files;
+  std::vector<std::string> set_overrides;
+  std::string lcm_url;
+  std::string name;
+  bool print_config = false;
+  bool help = false;
+  std::vector<std::string> positional;
+};
+NodeCommandLine ParseNodeCommandLine(int argc, char** argv);
+
+// Everything a node factory gets.
+struct NodeContext {
+  std::string name;
+  Config config;
+  RunParams run;
+  lcm::LCM* lcm;
+};
+
+// main() of a single-node process: parses the command line, resolves the config (clear errors,
+// exit 2), opens LCM, builds the node with `make`, spins. `usage` describes the sections read.
+int RunNodeMain(int argc, char** argv, const std::string& default_name, const std::string& usage,
+                const std::function<std::unique_ptr<Node>(const NodeContext&)>& make);
+
+}  // namespace dmpl

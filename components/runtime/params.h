@@ -1,0 +1,191 @@
+#pragma once
+// Parameters: plain structs with defaults in the declaration, bound to YAML by a Serialize method
+// (the pattern of Drake's yaml archives):
+//
+//   struct NoiseParams {
+//     double object_position_sigma = 0.005;  // m
+//     template <typename Archive>
+//     void Serialize(Archive* a) { a->Visit(DMPL_NVP(object_position_sigma)); }
+//   };
+//
+// Reading is strict: an unknown key, a value of the wrong type or shape is a ConfigError that
+// names the source (file) and the full key path, with the line number.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace dmpl {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+template <typename T>
+struct NameValue {
+  const char* name;
+  T* value;
+};
+#define DMPL_NVP(field) ::dmpl::NameValue<decltype(field)>{#field, &(field)}
+
+namespace internal {
+struct ProbeArchive {
+  template <typename T>
+  void Visit(const NameValue<T>&) {}
+};
+template <typename T, typename = void>
+struct IsSerializable : std::false_type {};
+template <typename T>
+struct IsSerializable<T, std::void_t<decltype(std::declval<T&>().Serialize(
+                             static_cast<ProbeArchive*>(nullptr)))>> : std::true_type {};
+template <typename T>
+struct IsVector : std::false_type {};
+template <typename T>
+struct IsVector<std::vector<T>> : std::true_type {};
+template <typename T>
+struct IsArray : std::false_type {};
+template <typename T, size_t N>
+struct IsArray<std::array<T, N>> : std::true_type {};
+template <typename T>
+struct IsStringMap : std::false_type {};
+template <typename T>
+struct IsStringMap<std::map<std::string, T>> : std::true_type {};
+}  // namespace internal
+
+// Reads a struct from a YAML map.
+class YamlReadArchive {
+ public:
+  // `source` names where the YAML came from (a file, "--set"); `path` is the key path of `node`.
+  YamlReadArchive(YAML::Node node, std::string source, std::string path)
+      : node_(std::move(node)), source_(std::move(source)), path_(std::move(path)) {}
+
+  template <typename T>
+  static void Load(const YAML::Node& node, const std::string& source, const std::string& path,
+                   T* out) {
+    static_assert(internal::IsSerializable<T>::value, "T needs a Serialize(Archive*) method");
+    YamlReadArchive archive(node, source, path);
+    archive.ExpectMap(node, path);
+    out->Serialize(&archive);
+    archive.RejectUnknownKeys();
+  }
+
+  template <typename T>
+  void Visit(const NameValue<T>& nv) {
+    visited_.insert(nv.name);
+    const YAML::Node& const_node = node_;
+    const YAML::Node child = const_node[nv.name];
+    if (!child.IsDefined() || child.IsNull()) return;  // keep the default
+    Read(child, Join(path_, nv.name), nv.value);
+  }
+
+  [[noreturn]] void Fail(const YAML::Node& node, const std::string& path,
+                         const std::string& what) const;
+
+ private:
+  static std::string Join(const std::string& a, const std::string& b) {
+    return a.empty() ? b : a + "." + b;
+  }
+  void ExpectMap(const YAML::Node& node, const std::string& path) const;
+  void ExpectScalar(const YAML::Node& node, const std::string& path, const char* kind) const;
+  void RejectUnknownKeys() const;
+
+  void Read(const YAML::Node& n, const std::string& path, double* v) const;
+  void Read(const YAML::Node& n, const std::string& path, int* v) const;
+  void Read(const YAML::Node& n, const std::string& path, int64_t* v) const;
+  void Read(const YAML::Node& n, const std::string& path, bool* v) const;
+  void Read(const YAML::Node& n, const std::string& path, std::string* v) const;
+
+  template <typename T>
+  void Read(const YAML::Node& n, const std::string& path, T* v) const {
+    if constexpr (internal::IsSerializable<T>::value) {
+      YamlReadArchive sub(n, source_, path);
+      sub.ExpectMap(n, path);
+      v->Serialize(&sub);
+      sub.RejectUnknownKeys();
+    } else if constexpr (internal::IsVector<T>::value) {
+      if (!n.IsSequence()) Fail(n, path, "expected a list");
+      v->clear();
+      v->resize(n.size());
+      for (size_t i = 0; i < n.size(); ++i) {
+        Read(n[i], path + "[" + std::to_string(i) + "]", &(*v)[i]);
+      }
+    } else if constexpr (internal::IsArray<T>::value) {
+      if (!n.IsSequence() || n.size() != v->size()) {
+        Fail(n, path, "expected a list of " + std::to_string(v->size()) + " values");
+      }
+      for (size_t i = 0; i < n.size(); ++i) {
+        Read(n[i], path + "[" + std::to_string(i) + "]", &(*v)[i]);
+      }
+    } else if constexpr (internal::IsStringMap<T>::value) {
+      ExpectMap(n, path);
+      v->clear();
+      for (const auto& kv : n) {
+        const std::string key = kv.first.as<std::string>();
+        Read(kv.second, Join(path, key), &(*v)[key]);
+      }
+    } else {
+      static_assert(!sizeof(T*), "unsupported parameter type");
+    }
+  }
+
+  YAML::Node node_;
+  std::string source_;
+  std::string path_;
+  std::set<std::string> visited_;
+};
+
+// Writes a struct to a YAML map (to print the effective configuration or write calibrated values).
+class YamlWriteArchive {
+ public:
+  template <typename T>
+  static YAML::Node Save(const T& value) {
+    YamlWriteArchive archive;
+    const_cast<T&>(value).Serialize(&archive);
+    return archive.node_;
+  }
+
+  template <typename T>
+  void Visit(const NameValue<T>& nv) {
+    node_[nv.name] = ToNode(*nv.value);
+  }
+
+ private:
+  template <typename T>
+  static YAML::Node ToNode(const T& v) {
+    if constexpr (internal::IsSerializable<T>::value) {
+      return Save(v);
+    } else if constexpr (internal::IsVector<T>::value || internal::IsArray<T>::value) {
+      YAML::Node seq(YAML::NodeType::Sequence);
+      for (const auto& e : v) seq.push_back(ToNode(e));
+      seq.SetStyle(YAML::EmitterStyle::Flow);
+      return seq;
+    } else if constexpr (internal::IsStringMap<T>::value) {
+      YAML::Node map(YAML::NodeType::Map);
+      for (const auto& [k, e] : v) map[k] = ToNode(e);
+      return map;
+    } else {
+      return YAML::Node(v);
+    }
+  }
+  YAML::Node node_{YAML::NodeType::Map};
+};
+
+// Loads a YAML file; a missing file or a syntax error is a ConfigError naming the file.
+YAML::Node LoadYamlFile(const std::string& path);
+
+// Applies "a.b.c=value" to `root` (value parsed as YAML, so numbers stay numbers). Intermediate
+// maps are created; a path through a non-map is a ConfigError.
+void ApplySetOverride(YAML::Node root, const std::string& assignment);
+
+// Overlays `overlay` onto `base`: maps are merged key by key, anything else replaces.
+void MergeYaml(YAML::Node base, const YAML::Node& overlay);
+
+}  // namespace dmpl
