@@ -1,0 +1,68 @@
+"""Helpers for multi-process tests: LCM on the test's own URL, waiting for messages, processes."""
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+import lcm
+
+URL = os.environ.get("LCM_DEFAULT_URL", "udpm://239.255.76.67:7667?ttl=0")
+ROOT = os.environ.get("DMPL_ROOT", os.getcwd())
+
+
+def pid_alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    # A zombie is dead for our purposes.
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split()[2] != "Z"
+    except OSError:
+        return False
+
+
+class Bus:
+    """An LCM instance that keeps the latest and all messages per channel."""
+
+    def __init__(self, url=URL):
+        self.lc = lcm.LCM(url)
+        self.received = {}
+
+    def listen(self, channel, msg_type):
+        def handler(ch, data):
+            self.received.setdefault(ch, []).append(msg_type.decode(data))
+        self.lc.subscribe(channel, handler)
+
+    def spin(self, seconds):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            self.lc.handle_timeout(10)
+
+    def wait_for(self, predicate, timeout, what):
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if predicate():
+                return
+            self.lc.handle_timeout(10)
+        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+    def publish(self, channel, msg):
+        self.lc.publish(channel, msg.encode())
+
+
+def launch(set_file, run_dir=None, extra=()):
+    """Starts tools' launcher on a set; returns (Popen, run_dir)."""
+    run_dir = run_dir or tempfile.mkdtemp(prefix="dmpl_mp_")
+    cmd = [sys.executable, "-m", "dmpl_tools.launch", set_file, "--run-dir", run_dir, *extra]
+    proc = subprocess.Popen(cmd, cwd=ROOT)
+    return proc, run_dir
+
+
+def stop(proc, timeout=20):
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGTERM)
+    return proc.wait(timeout=timeout)

@@ -1,0 +1,1 @@
+"""dmpl's Python tools: launcher, experiment runner, metrics, reports, sweeps, benchmarks."""
