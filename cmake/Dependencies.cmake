@@ -3,7 +3,7 @@ find_package(PkgConfig REQUIRED)
 # LCM 1.3.1 ships no CMake config; its pkg-config file needs glib.
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
 # Bullet's CMake config is broken on Debian (missing library, relative include path).
-pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET bullet)
+pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET bullet-float64)  # PyBullet is double too
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(orocos_kdl REQUIRED)
 add_library(dmpl_orocos_kdl INTERFACE)

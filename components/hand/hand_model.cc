@@ -1,0 +1,212 @@
+#include "components/hand/hand_model.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+
+#include <Eigen/Eigenvalues>
+#include <urdf_parser/urdf_parser.h>
+
+namespace dmpl {
+namespace {
+
+Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
+  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y,
+                                  pose.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
+  return t;
+}
+
+[[noreturn]] void FailUrdf(const std::string& file, const std::string& what) {
+  throw ConfigError("URDF error in " + file + ": " + what);
+}
+
+}  // namespace
+
+std::string ResolveProjectPath(const std::string& path) {
+  if (path.empty() || path[0] == '/') return path;
+  if (const char* root = std::getenv("DMPL_ROOT"); root && *root) {
+    return (std::filesystem::path(root) / path).string();
+  }
+  return path;
+}
+
+std::vector<std::string> HandModel::actuated_names() const {
+  std::vector<std::string> names;
+  for (int j : actuated_) names.push_back(joints_[j].name);
+  return names;
+}
+
+int HandModel::FindLink(const std::string& name) const {
+  for (size_t i = 0; i < links_.size(); ++i) {
+    if (links_[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int HandModel::FindFinger(const std::string& name) const {
+  for (size_t i = 0; i < fingers_.size(); ++i) {
+    if (fingers_[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+HandModel HandModel::Load(const HandParams& params) {
+  HandModel model;
+  model.urdf_path_ = ResolveProjectPath(params.urdf);
+  model.tip_radius_ = params.tip_radius;
+  const std::string& file = model.urdf_path_;
+  if (!std::filesystem::exists(file)) {
+    throw ConfigError("URDF error: file '" + file + "' does not exist (key hand.urdf)");
+  }
+  const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDFFile(file);
+  if (!urdf) FailUrdf(file, "urdfdom could not parse it (its messages are above)");
+  const urdf::LinkConstSharedPtr root = urdf->getRoot();
+  if (!root) FailUrdf(file, "no root link");
+
+  // Depth-first: parents before children, children in URDF order.
+  std::function<void(const urdf::LinkConstSharedPtr&, int, int)> visit =
+      [&](const urdf::LinkConstSharedPtr& link, int parent_link, int parent_joint) {
+        LinkInfo info;
+        info.name = link->name;
+        info.parent_link = parent_link;
+        info.parent_joint = parent_joint;
+        if (link->inertial) {
+          const auto& in = *link->inertial;
+          if (!(in.mass > 0.0) || !std::isfinite(in.mass)) {
+            FailUrdf(file, "link '" + link->name + "' has a non-positive mass " + std::to_string(in.mass));
+          }
+          info.mass = in.mass;
+          const Eigen::Isometry3d frame = ToIsometry(in.origin);
+          info.com = frame.translation();
+          Eigen::Matrix3d i_frame;
+          i_frame << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+          info.inertia = frame.linear() * i_frame * frame.linear().transpose();
+          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info.inertia);
+          if (eig.eigenvalues().minCoeff() <= 0.0) {
+            FailUrdf(file, "link '" + link->name + "' has an inertia that is not positive definite");
+          }
+        } else if (parent_link >= 0) {
+          FailUrdf(file, "link '" + link->name + "' has no <inertial> (every moving link needs a mass)");
+        }
+        for (const auto& c : link->collision_array) {
+          if (!c || !c->geometry) continue;
+          CollisionShape shape;
+          shape.origin = ToIsometry(c->origin);
+          switch (c->geometry->type) {
+            case urdf::Geometry::BOX: {
+              const auto& b = static_cast<const urdf::Box&>(*c->geometry);
+              shape.kind = CollisionShape::Kind::kBox;
+              shape.box_size = Eigen::Vector3d(b.dim.x, b.dim.y, b.dim.z);
+              break;
+            }
+            case urdf::Geometry::SPHERE:
+              shape.kind = CollisionShape::Kind::kSphere;
+              shape.radius = static_cast<const urdf::Sphere&>(*c->geometry).radius;
+              break;
+            case urdf::Geometry::CYLINDER: {
+              const auto& cyl = static_cast<const urdf::Cylinder&>(*c->geometry);
+              shape.kind = CollisionShape::Kind::kCylinder;
+              shape.radius = cyl.radius;
+              shape.length = cyl.length;
+              break;
+            }
+            default:
+              FailUrdf(file, "link '" + link->name + "': only box, sphere and cylinder collisions are "
+                   "supported (meshes are not)");
+          }
+          info.collisions.push_back(shape);
+        }
+        const int index = static_cast<int>(model.links_.size());
+        model.links_.push_back(info);
+        for (const auto& child : link->child_links) {
+          const urdf::JointConstSharedPtr& uj = child->parent_joint;
+          JointInfo joint;
+          joint.name = uj->name;
+          joint.parent_link = index;
+          joint.origin = ToIsometry(uj->parent_to_joint_origin_transform);
+          switch (uj->type) {
+            case urdf::Joint::REVOLUTE:
+            case urdf::Joint::CONTINUOUS: {
+              joint.type = JointInfo::Type::kRevolute;
+              const Eigen::Vector3d axis(uj->axis.x, uj->axis.y, uj->axis.z);
+              if (axis.norm() < 1e-9) FailUrdf(file, "joint '" + uj->name + "' has a zero axis");
+              joint.axis = axis.normalized();
+              if (uj->type == urdf::Joint::CONTINUOUS) {
+                joint.lower = -std::numeric_limits<double>::infinity();
+                joint.upper = std::numeric_limits<double>::infinity();
+              } else {
+                if (!uj->limits) FailUrdf(file, "revolute joint '" + uj->name + "' has no <limit>");
+                joint.lower = uj->limits->lower;
+                joint.upper = uj->limits->upper;
+                if (!(joint.lower < joint.upper)) {
+                  FailUrdf(file, "joint '" + uj->name + "' has lower limit >= upper limit");
+                }
+              }
+              if (uj->limits) {
+                joint.effort = uj->limits->effort;
+                joint.velocity = uj->limits->velocity;
+              }
+              if (!(joint.effort > 0.0)) FailUrdf(file, "joint '" + uj->name + "' needs an effort limit > 0");
+              break;
+            }
+            case urdf::Joint::FIXED:
+              joint.type = JointInfo::Type::kFixed;
+              break;
+            case urdf::Joint::FLOATING:
+              FailUrdf(file, "joint '" + uj->name + "' is floating: not supported (the palm is fixed)");
+            case urdf::Joint::PLANAR:
+              FailUrdf(file, "joint '" + uj->name + "' is planar: not supported");
+            case urdf::Joint::PRISMATIC:
+              FailUrdf(file, "joint '" + uj->name + "' is prismatic: not supported by this hand model");
+            default:
+              FailUrdf(file, "joint '" + uj->name + "' has an unknown type");
+          }
+          const int joint_index = static_cast<int>(model.joints_.size());
+          model.joints_.push_back(joint);
+          model.joints_[joint_index].child_link = static_cast<int>(model.links_.size());
+          visit(child, index, joint_index);
+        }
+      };
+  visit(root, -1, -1);
+
+  // Fingers: chains from the root to each tip link; actuated joints numbered finger by finger.
+  if (params.fingers.empty()) throw ConfigError("config error: hand.fingers is empty");
+  std::vector<bool> claimed(model.joints_.size(), false);
+  for (const auto& fp : params.fingers) {
+    FingerInfo finger;
+    finger.name = fp.name;
+    finger.tip_link = model.FindLink(fp.tip_link);
+    if (finger.tip_link < 0) {
+      FailUrdf(file, "finger '" + fp.name + "': tip link '" + fp.tip_link + "' is not in the URDF");
+    }
+    for (int l = finger.tip_link; model.links_[l].parent_link >= 0; l = model.links_[l].parent_link) {
+      finger.links.insert(finger.links.begin(), l);
+    }
+    for (int l : finger.links) {
+      const int j = model.links_[l].parent_joint;
+      if (model.joints_[j].type != JointInfo::Type::kRevolute) continue;
+      if (claimed[j]) FailUrdf(file, "joint '" + model.joints_[j].name + "' is on two fingers' chains");
+      claimed[j] = true;
+      model.joints_[j].actuated_index = static_cast<int>(model.actuated_.size());
+      finger.joints.push_back(model.joints_[j].actuated_index);
+      model.actuated_.push_back(j);
+    }
+    if (finger.joints.empty()) FailUrdf(file, "finger '" + fp.name + "' has no revolute joints");
+    model.fingers_.push_back(finger);
+  }
+  for (size_t j = 0; j < model.joints_.size(); ++j) {
+    if (model.joints_[j].type == JointInfo::Type::kRevolute && !claimed[j]) {
+      FailUrdf(file, "revolute joint '" + model.joints_[j].name + "' is on no finger's chain");
+    }
+  }
+  return model;
+}
+
+}  // namespace dmpl

@@ -1,0 +1,545 @@
+#include "sim_process/sim/hand_sim.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <btBulletDynamicsCommon.h>
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+
+#include "components/runtime/check.h"
+
+namespace dmpl {
+namespace {
+
+btVector3 ToBt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+Eigen::Vector3d ToEigen(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
+
+btTransform ToBt(const Eigen::Isometry3d& t) {
+  const Eigen::Quaterniond q(t.linear());
+  return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), ToBt(t.translation()));
+}
+
+Eigen::Isometry3d ToEigen(const btTransform& t) {
+  const btQuaternion q = t.getRotation();
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).toRotationMatrix();
+  out.translation() = ToEigen(t.getOrigin());
+  return out;
+}
+
+Eigen::Isometry3d FromRpy(const std::array<double, 3>& xyz, const std::array<double, 3>& rpy) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(rpy[0], Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  t.translation() = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+  return t;
+}
+
+// Diagonal inertia in the link frame; a rotated principal frame is not supported.
+btVector3 DiagonalInertia(const LinkInfo& link, const std::string& urdf) {
+  const Eigen::Matrix3d& i = link.inertia;
+  const double scale = i.diagonal().cwiseAbs().maxCoeff();
+  const double off = std::max({std::abs(i(0, 1)), std::abs(i(0, 2)), std::abs(i(1, 2))});
+  if (off > 1e-6 * scale) {
+    throw ConfigError("URDF error in " + urdf + ": link '" + link.name +
+                      "' has an inertia that is not diagonal in the link frame (unsupported)");
+  }
+  return btVector3(i(0, 0), i(1, 1), i(2, 2));
+}
+
+std::unique_ptr<btCollisionShape> MakeShape(const CollisionShape& c, double margin) {
+  std::unique_ptr<btConvexShape> shape;
+  switch (c.kind) {
+    case CollisionShape::Kind::kBox:
+      shape = std::make_unique<btBoxShape>(ToBt(c.box_size / 2.0));
+      shape->setMargin(margin);
+      break;
+    case CollisionShape::Kind::kSphere:
+      shape = std::make_unique<btSphereShape>(c.radius);  // its margin is its radius
+      break;
+    case CollisionShape::Kind::kCylinder:
+      shape = std::make_unique<btCylinderShapeZ>(btVector3(c.radius, c.radius, c.length / 2.0));
+      shape->setMargin(margin);
+      break;
+  }
+  return shape;
+}
+
+}  // namespace
+
+Eigen::Vector3d ObjectInertia(const ObjectParams& o) {
+  const double m = o.mass;
+  if (o.shape == "sphere") {
+    const double i = 0.4 * m * o.radius * o.radius;
+    return {i, i, i};
+  }
+  if (o.shape == "cylinder") {
+    const double r2 = o.radius * o.radius, h2 = o.length * o.length;
+    const double ixy = m * (3.0 * r2 + h2) / 12.0;
+    return {ixy, ixy, 0.5 * m * r2};
+  }
+  if (o.shape == "box") {
+    const double x2 = o.size[0] * o.size[0], y2 = o.size[1] * o.size[1],
+                 z2 = o.size[2] * o.size[2];
+    return {m * (y2 + z2) / 12.0, m * (x2 + z2) / 12.0, m * (x2 + y2) / 12.0};
+  }
+  if (o.shape == "ellipsoid") {
+    const double a2 = o.radii[0] * o.radii[0], b2 = o.radii[1] * o.radii[1],
+                 c2 = o.radii[2] * o.radii[2];
+    return {m * (b2 + c2) / 5.0, m * (a2 + c2) / 5.0, m * (a2 + b2) / 5.0};
+  }
+  if (o.shape == "capsule") {
+    // Cylinder of length L plus two hemispheres of radius r, uniform density, axis z.
+    const double r = o.radius, l = o.length;
+    const double v_cyl = M_PI * r * r * l, v_sph = 4.0 / 3.0 * M_PI * r * r * r;
+    const double m_cyl = m * v_cyl / (v_cyl + v_sph), m_sph = m - m_cyl;
+    const double izz = m_cyl * r * r / 2.0 + m_sph * 2.0 * r * r / 5.0;
+    const double ixx = m_cyl * (3.0 * r * r + l * l) / 12.0 +
+                       m_sph * (2.0 * r * r / 5.0 + l * l / 4.0 + 3.0 * l * r / 8.0);
+    return {ixx, ixx, izz};
+  }
+  throw ConfigError("config error: key 'object.shape': unknown shape '" + o.shape + "'");
+}
+
+void SimParams::Validate(const std::string& source) const {
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw ConfigError("config error in " + source + ": key 'sim." + key + "': " + what);
+  };
+  if (!(physics.time_step > 0 && physics.time_step <= 0.01)) fail("physics.time_step", "must be in (0, 0.01]");
+  if (physics.solver_iterations < 1) fail("physics.solver_iterations", "must be >= 1");
+  if (physics.collision_margin < 0 || physics.collision_margin > 0.005) {
+    fail("physics.collision_margin", "must be in [0, 0.005] m");
+  }
+  if (servo.kp.empty() || servo.kp.size() != servo.kd.size()) {
+    fail("servo.kp", "kp and kd need the same, non-zero number of entries");
+  }
+  for (double k : servo.kp) if (k < 0) fail("servo.kp", "gains must be >= 0");
+  for (double k : servo.kd) if (k < 0) fail("servo.kd", "gains must be >= 0");
+  if (steps_per_tick < 1) fail("steps_per_tick", "must be >= 1");
+  if (!(duration_s > 0)) fail("duration_s", "must be > 0");
+  if (!(realtime_rate > 0)) fail("realtime_rate", "must be > 0");
+  if (tactile.contact_threshold_n < 0) fail("tactile.contact_threshold_n", "must be >= 0");
+}
+
+void ObjectParams::Validate(const std::string& source) const {
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw ConfigError("config error in " + source + ": key 'object." + key + "': " + what);
+  };
+  static const std::vector<std::string> kShapes = {"sphere", "cylinder", "box", "capsule",
+                                                   "ellipsoid"};
+  if (std::find(kShapes.begin(), kShapes.end(), shape) == kShapes.end()) {
+    fail("shape", "unknown shape '" + shape + "' (sphere, cylinder, box, capsule, ellipsoid)");
+  }
+  if (!(mass > 0)) fail("mass", "must be > 0");
+  if ((shape == "sphere" || shape == "cylinder" || shape == "capsule") && !(radius > 0)) {
+    fail("radius", "must be > 0");
+  }
+  if ((shape == "cylinder" || shape == "capsule") && !(length > 0)) fail("length", "must be > 0");
+  if (shape == "box") for (double s : size) if (!(s > 0)) fail("size", "edges must be > 0");
+  if (shape == "ellipsoid") for (double r : radii) if (!(r > 0)) fail("radii", "must be > 0");
+  if (friction < 0) fail("friction", "must be >= 0");
+  if (rolling_friction < 0 || spinning_friction < 0) fail("rolling_friction", "must be >= 0");
+  if (restitution < 0 || restitution > 1) fail("restitution", "must be in [0, 1]");
+}
+
+// Everything Bullet, rebuilt by Reset().
+struct HandSim::World {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btMultiBodyConstraintSolver solver;
+  btMultiBodyDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  std::unique_ptr<btMultiBody> hand;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
+  std::vector<std::unique_ptr<btMultiBodyJointLimitConstraint>> limits;
+  std::unique_ptr<btRigidBody> object;
+  btVector3 object_inertia;
+  std::vector<int> bullet_link_of_joint;                    // actuated joint -> Bullet link
+  std::vector<std::vector<int>> subtree;                    // actuated joint -> Bullet links
+  std::vector<const btCollisionObject*> tip_colliders;      // per finger
+  btAlignedObjectArray<btQuaternion> scratch_q;
+  btAlignedObjectArray<btVector3> scratch_v;
+
+  ~World() {
+    if (object) world.removeRigidBody(object.get());
+    for (auto& l : limits) world.removeMultiBodyConstraint(l.get());
+    for (auto& c : colliders) world.removeCollisionObject(c.get());
+    if (hand) world.removeMultiBody(hand.get());
+  }
+};
+
+HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object)
+    : model_(model), sim_(sim), object_params_(object) {
+  sim_.Validate("sim");
+  object_params_.Validate("object");
+  for (const auto& [finger, q] : sim_.initial_joints) {
+    const int f = model_.FindFinger(finger);
+    if (f < 0) throw ConfigError("config error: key 'sim.initial_joints." + finger + "': no such finger");
+    if (q.size() != model_.fingers()[f].joints.size()) {
+      throw ConfigError("config error: key 'sim.initial_joints." + finger + "': expected " +
+                        std::to_string(model_.fingers()[f].joints.size()) + " joint angles");
+    }
+  }
+  palm_pose_ = FromRpy(sim_.palm_position, sim_.palm_rpy);
+  Build();
+}
+
+HandSim::~HandSim() = default;
+
+void HandSim::Build() {
+  world_ = std::make_unique<World>();
+  World& w = *world_;
+  const auto& p = sim_.physics;
+  w.world.setGravity(btVector3(p.gravity[0], p.gravity[1], p.gravity[2]));
+  btContactSolverInfo& info = w.world.getSolverInfo();
+  info.m_numIterations = p.solver_iterations;
+  info.m_erp2 = p.contact_erp;
+  info.m_frictionERP = p.friction_erp;
+  info.m_linearSlop = p.linear_slop;
+  info.m_minimumSolverBatchSize = p.minimum_solver_batch_size;
+  info.m_warmstartingFactor = p.warmstarting_factor;
+  info.m_leastSquaresResidualThreshold = p.residual_threshold;
+
+  // --- the hand ---
+  const auto& links = model_.links();
+  const std::string& urdf = model_.urdf_path();
+  const int num_links = static_cast<int>(links.size()) - 1;  // the palm is the base
+  const LinkInfo& palm = links[0];
+  const double palm_mass = palm.mass > 0 ? palm.mass : 1.0;
+  const btVector3 palm_inertia =
+      palm.mass > 0 ? DiagonalInertia(palm, urdf) : btVector3(1e-3, 1e-3, 1e-3);
+  w.hand = std::make_unique<btMultiBody>(num_links, palm_mass, palm_inertia, /*fixedBase=*/true,
+                                         /*canSleep=*/false);
+  Eigen::Isometry3d base_com = palm_pose_;
+  base_com.translate(palm.com);
+  w.hand->setBaseWorldTransform(ToBt(base_com));
+  for (int l = 1; l <= num_links; ++l) {
+    const LinkInfo& link = links[l];
+    const JointInfo& joint = model_.joints()[link.parent_joint];
+    const LinkInfo& parent = links[link.parent_link];
+    const Eigen::Quaterniond parent_to_this(joint.origin.linear().transpose());
+    const btQuaternion rot(parent_to_this.x(), parent_to_this.y(), parent_to_this.z(),
+                           parent_to_this.w());
+    const btVector3 parent_com_to_pivot = ToBt(joint.origin.translation() - parent.com);
+    const btVector3 pivot_to_com = ToBt(link.com);
+    const btVector3 inertia = DiagonalInertia(link, urdf);
+    if (joint.type == JointInfo::Type::kRevolute) {
+      w.hand->setupRevolute(l - 1, link.mass, inertia, link.parent_link - 1, rot, ToBt(joint.axis),
+                            parent_com_to_pivot, pivot_to_com, /*disableParentCollision=*/true);
+    } else {
+      w.hand->setupFixed(l - 1, link.mass, inertia, link.parent_link - 1, rot,
+                         parent_com_to_pivot, pivot_to_com);
+    }
+  }
+  w.hand->finalizeMultiDof();
+  w.hand->setLinearDamping(0.0);   // the servos damp the joints; no hidden velocity damping
+  w.hand->setAngularDamping(0.0);
+  w.hand->setHasSelfCollision(p.self_collision);
+  w.world.addMultiBody(w.hand.get());
+
+  // Colliders: one compound per link, shapes placed relative to the link's centre of mass.
+  for (int l = 0; l <= num_links; ++l) {
+    const LinkInfo& link = links[l];
+    if (link.collisions.empty()) continue;
+    auto compound = std::make_unique<btCompoundShape>();
+    for (const auto& c : link.collisions) {
+      Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+      local.translation() = -link.com;
+      local = local * c.origin;
+      w.shapes.push_back(MakeShape(c, p.collision_margin));
+      compound->addChildShape(ToBt(local), w.shapes.back().get());
+    }
+    auto collider = std::make_unique<btMultiBodyLinkCollider>(w.hand.get(), l - 1);
+    collider->setCollisionShape(compound.get());
+    collider->setFriction(sim_.tactile.finger_friction);
+    collider->setRollingFriction(0.0);
+    collider->setSpinningFriction(0.0);
+    collider->setRestitution(0.0);
+    w.shapes.push_back(std::move(compound));
+    if (l == 0) {
+      w.world.addCollisionObject(collider.get(), btBroadphaseProxy::StaticFilter,
+                                 btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+      w.hand->setBaseCollider(collider.get());
+    } else {
+      w.world.addCollisionObject(collider.get(), btBroadphaseProxy::DefaultFilter,
+                                 btBroadphaseProxy::AllFilter);
+      w.hand->getLink(l - 1).m_collider = collider.get();
+    }
+    w.colliders.push_back(std::move(collider));
+  }
+
+  // Joint limits, servo bookkeeping, gravity-compensation subtrees.
+  const int n = model_.num_actuated();
+  w.bullet_link_of_joint.resize(n);
+  w.subtree.assign(n, {});
+  for (int a = 0; a < n; ++a) {
+    const JointInfo& joint = model_.actuated_joint(a);
+    const int bl = joint.child_link - 1;
+    w.bullet_link_of_joint[a] = bl;
+    if (std::isfinite(joint.lower) && std::isfinite(joint.upper)) {
+      w.limits.push_back(std::make_unique<btMultiBodyJointLimitConstraint>(
+          w.hand.get(), bl, joint.lower, joint.upper));
+      w.world.addMultiBodyConstraint(w.limits.back().get());
+    }
+    for (int l = 1; l <= num_links; ++l) {
+      for (int k = l; k > 0; k = links[k].parent_link) {
+        if (k == joint.child_link) {
+          w.subtree[a].push_back(l - 1);
+          break;
+        }
+      }
+    }
+  }
+  w.tip_colliders.clear();
+  for (const auto& finger : model_.fingers()) {
+    const btMultiBodyLinkCollider* tip = w.hand->getLink(finger.tip_link - 1).m_collider;
+    if (tip == nullptr) {
+      throw ConfigError("URDF error in " + urdf + ": fingertip link '" +
+                        links[finger.tip_link].name + "' has no collision shape to sense with");
+    }
+    w.tip_colliders.push_back(tip);
+  }
+
+  // --- the object ---
+  const ObjectParams& o = object_params_;
+  std::unique_ptr<btCollisionShape> shape;
+  if (o.shape == "sphere") {
+    shape = std::make_unique<btSphereShape>(o.radius);
+  } else if (o.shape == "cylinder") {
+    shape = std::make_unique<btCylinderShapeZ>(btVector3(o.radius, o.radius, o.length / 2.0));
+  } else if (o.shape == "box") {
+    shape = std::make_unique<btBoxShape>(btVector3(o.size[0], o.size[1], o.size[2]) / 2.0);
+  } else if (o.shape == "capsule") {
+    shape = std::make_unique<btCapsuleShapeZ>(o.radius, o.length);
+  } else {  // ellipsoid: a unit sphere scaled per axis
+    const btVector3 centre(0, 0, 0);
+    const btScalar unit = 1.0;
+    shape = std::make_unique<btMultiSphereShape>(&centre, &unit, 1);
+    shape->setLocalScaling(btVector3(o.radii[0], o.radii[1], o.radii[2]));
+  }
+  if (o.shape != "sphere") shape->setMargin(p.collision_margin);
+  w.object_inertia = ToBt(ObjectInertia(o));
+  btRigidBody::btRigidBodyConstructionInfo ci(o.mass, nullptr, shape.get(), w.object_inertia);
+  ci.m_friction = o.friction;
+  ci.m_rollingFriction = o.rolling_friction;
+  ci.m_spinningFriction = o.spinning_friction;
+  ci.m_restitution = o.restitution;
+  ci.m_linearDamping = 0.0;
+  ci.m_angularDamping = 0.0;
+  ci.m_startWorldTransform = ToBt(palm_pose_ * FromRpy(o.position, o.rpy));
+  w.object = std::make_unique<btRigidBody>(ci);
+  w.object->setActivationState(DISABLE_DEACTIVATION);
+  w.shapes.push_back(std::move(shape));
+  w.world.addRigidBody(w.object.get(), btBroadphaseProxy::DefaultFilter,
+                       btBroadphaseProxy::AllFilter);
+
+  // Initial joints: from the config, else zero clamped into the limits.
+  std::vector<double> q(n, 0.0);
+  for (int a = 0; a < n; ++a) {
+    const JointInfo& joint = model_.actuated_joint(a);
+    q[a] = std::clamp(0.0, joint.lower, joint.upper);
+  }
+  for (const auto& [finger, angles] : sim_.initial_joints) {
+    const FingerInfo& f = model_.fingers()[model_.FindFinger(finger)];
+    for (size_t i = 0; i < angles.size(); ++i) q[f.joints[i]] = angles[i];
+  }
+  SetJointPositions(q);
+  held_ = false;
+  if (o.held) HoldObject();
+  tactile_.assign(model_.fingers().size(), TipReading{});
+  time_ = 0.0;
+  steps_ = 0;
+}
+
+void HandSim::SetJointPositions(const std::vector<double>& q) {
+  DMPL_DEMAND(static_cast<int>(q.size()) == model_.num_actuated());
+  World& w = *world_;
+  for (int a = 0; a < model_.num_actuated(); ++a) {
+    w.hand->setJointPos(w.bullet_link_of_joint[a], q[a]);
+    w.hand->setJointVel(w.bullet_link_of_joint[a], 0.0);
+  }
+  w.hand->forwardKinematics(w.scratch_q, w.scratch_v);
+  w.hand->updateCollisionObjectWorldTransforms(w.scratch_q, w.scratch_v);
+  targets_ = q;
+  effort_.assign(q.size(), 0.0);
+}
+
+bool HandSim::SetJointTargets(const std::vector<double>& q, std::string* why) {
+  if (static_cast<int>(q.size()) != model_.num_actuated()) {
+    *why = "expected " + std::to_string(model_.num_actuated()) + " joint targets, got " +
+           std::to_string(q.size());
+    return false;
+  }
+  for (int a = 0; a < model_.num_actuated(); ++a) {
+    const JointInfo& joint = model_.actuated_joint(a);
+    if (!std::isfinite(q[a])) {
+      *why = "joint '" + joint.name + "' target is not finite";
+      return false;
+    }
+    // A hair of tolerance for targets computed exactly at a limit.
+    if (q[a] < joint.lower - 1e-9 || q[a] > joint.upper + 1e-9) {
+      *why = "joint '" + joint.name + "' target " + std::to_string(q[a]) + " is outside [" +
+             std::to_string(joint.lower) + ", " + std::to_string(joint.upper) + "]";
+      return false;
+    }
+  }
+  targets_ = q;
+  return true;
+}
+
+void HandSim::ApplyServoTorques() {
+  World& w = *world_;
+  btMultiBody& hand = *w.hand;
+  hand.clearForcesAndTorques();
+  const auto& servo = sim_.servo;
+  const btVector3 g = w.world.getGravity();
+  if (servo.gravity_compensation) hand.forwardKinematics(w.scratch_q, w.scratch_v);
+  for (const FingerInfo& finger : model_.fingers()) {
+    for (size_t k = 0; k < finger.joints.size(); ++k) {
+      const int a = finger.joints[k];
+      const int bl = w.bullet_link_of_joint[a];
+      const size_t gain = std::min(k, servo.kp.size() - 1);
+      double tau = servo.kp[gain] * (targets_[a] - hand.getJointPos(bl)) -
+                   servo.kd[gain] * hand.getJointVel(bl);
+      if (servo.gravity_compensation) {
+        // tau_g = axis . sum over the subtree of (com - pivot) x m g; the servo cancels it.
+        const btTransform& frame = hand.getLink(bl).m_cachedWorldTransform;
+        const btVector3 axis = frame.getBasis() * hand.getLink(bl).getAxisTop(0);
+        const btVector3 pivot = frame * (-hand.getLink(bl).m_dVector);
+        btVector3 moment(0, 0, 0);
+        for (int l : w.subtree[a]) {
+          const btVector3 com = hand.getLink(l).m_cachedWorldTransform.getOrigin();
+          moment += (com - pivot).cross(hand.getLink(l).m_mass * g);
+        }
+        tau -= axis.dot(moment);
+      }
+      const double limit = model_.actuated_joint(a).effort;
+      effort_[a] = std::clamp(tau, -limit, limit);
+      hand.addJointTorque(bl, effort_[a]);
+    }
+  }
+}
+
+void HandSim::Step() {
+  ApplyServoTorques();
+  const double dt = sim_.physics.time_step;
+  world_->world.stepSimulation(dt, 0, dt);
+  time_ += dt;
+  ++steps_;
+  ReadTactile();
+}
+
+void HandSim::ReadTactile() {
+  World& w = *world_;
+  const double dt = sim_.physics.time_step;
+  const Eigen::Isometry3d world_to_palm = palm_pose_.inverse();
+  const size_t num_fingers = w.tip_colliders.size();
+  std::vector<Eigen::Vector3d> weighted_pos(num_fingers, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> weighted_normal(num_fingers, Eigen::Vector3d::Zero());
+  for (auto& t : tactile_) t = TipReading{};
+  btDispatcher* dispatcher = w.world.getDispatcher();
+  for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
+    const btCollisionObject* a = manifold->getBody0();
+    const btCollisionObject* b = manifold->getBody1();
+    const bool tip_is_a = b == w.object.get();
+    if (!tip_is_a && a != w.object.get()) continue;
+    const btCollisionObject* tip = tip_is_a ? a : b;
+    const auto it = std::find(w.tip_colliders.begin(), w.tip_colliders.end(), tip);
+    if (it == w.tip_colliders.end()) continue;
+    const size_t f = it - w.tip_colliders.begin();
+    for (int i = 0; i < manifold->getNumContacts(); ++i) {
+      const btManifoldPoint& pt = manifold->getContactPoint(i);
+      const double force = pt.getAppliedImpulse() / dt;
+      if (force <= 0.0) continue;
+      // normalWorldOnB points from B to A; we report object -> fingertip.
+      const Eigen::Vector3d normal = ToEigen(tip_is_a ? pt.m_normalWorldOnB : -pt.m_normalWorldOnB);
+      const Eigen::Vector3d on_object =
+          ToEigen(tip_is_a ? pt.getPositionWorldOnB() : pt.getPositionWorldOnA());
+      tactile_[f].force += force;
+      tactile_[f].points += 1;
+      weighted_pos[f] += force * on_object;
+      weighted_normal[f] += force * normal;
+    }
+  }
+  for (size_t f = 0; f < num_fingers; ++f) {
+    TipReading& t = tactile_[f];
+    if (t.force <= 0.0) continue;
+    t.position = world_to_palm * (weighted_pos[f] / t.force);
+    t.normal = (world_to_palm.linear() * weighted_normal[f]).normalized();
+    t.in_contact = t.force > sim_.tactile.contact_threshold_n;
+  }
+}
+
+JointReading HandSim::joints() const {
+  const World& w = *world_;
+  JointReading r;
+  const int n = model_.num_actuated();
+  r.position.resize(n);
+  r.velocity.resize(n);
+  r.effort.resize(n);
+  for (int a = 0; a < n; ++a) {
+    const int bl = w.bullet_link_of_joint[a];
+    r.position[a] = w.hand->getJointPos(bl);
+    r.velocity[a] = w.hand->getJointVel(bl);
+    r.effort[a] = effort_[a];
+  }
+  return r;
+}
+
+ObjectReading HandSim::object() const {
+  const btRigidBody& body = *world_->object;
+  const Eigen::Isometry3d world_to_palm = palm_pose_.inverse();
+  ObjectReading r;
+  r.pose = world_to_palm * ToEigen(body.getWorldTransform());
+  r.linear_velocity = world_to_palm.linear() * ToEigen(body.getLinearVelocity());
+  r.angular_velocity = world_to_palm.linear() * ToEigen(body.getAngularVelocity());
+  return r;
+}
+
+void HandSim::HoldObject() {
+  World& w = *world_;
+  btRigidBody& body = *w.object;
+  w.world.removeRigidBody(&body);
+  body.setMassProps(0.0, btVector3(0, 0, 0));
+  body.setCollisionFlags(body.getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+  body.setLinearVelocity(btVector3(0, 0, 0));
+  body.setAngularVelocity(btVector3(0, 0, 0));
+  w.world.addRigidBody(&body, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+  held_ = true;
+}
+
+void HandSim::ReleaseObject() {
+  World& w = *world_;
+  btRigidBody& body = *w.object;
+  w.world.removeRigidBody(&body);
+  body.setCollisionFlags(body.getCollisionFlags() & ~btCollisionObject::CF_KINEMATIC_OBJECT);
+  body.setMassProps(object_params_.mass, w.object_inertia);
+  body.updateInertiaTensor();
+  body.setLinearVelocity(btVector3(0, 0, 0));
+  body.setAngularVelocity(btVector3(0, 0, 0));
+  body.setGravity(w.world.getGravity());
+  body.activate(true);
+  w.world.addRigidBody(&body, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+  held_ = false;
+}
+
+void HandSim::Reset() { Build(); }
+
+Eigen::Vector3d HandSim::TipPosition(int finger) const {
+  const World& w = *world_;
+  const int bl = model_.fingers()[finger].tip_link - 1;
+  const LinkInfo& tip = model_.links()[bl + 1];
+  // Link frames in Bullet are at the centre of mass; the tip frame origin is -com from it.
+  const btVector3 world = w.hand->localPosToWorld(bl, ToBt(-tip.com));
+  return palm_pose_.inverse() * ToEigen(world);
+}
+
+}  // namespace dmpl

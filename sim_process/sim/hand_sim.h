@@ -1,0 +1,91 @@
+#pragma once
+// The simulator's core: the hand (a btMultiBody built from the URDF) and one object (a
+// btRigidBody) in a Bullet multibody world, with joint servos and fingertip tactile sensing.
+// No LCM here. Everything it reports is in the palm frame.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "components/hand/hand_model.h"
+#include "sim_process/sim/sim_params.h"
+
+namespace dmpl {
+
+struct JointReading {
+  std::vector<double> position, velocity, effort;  // actuated joints, HandModel order
+};
+
+struct ObjectReading {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // palm frame
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+};
+
+struct TipReading {
+  bool in_contact = false;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // force-weighted contact point on the object
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();    // object -> fingertip
+  double force = 0.0;                                  // normal force, N
+  int points = 0;
+};
+
+class HandSim {
+ public:
+  // Throws ConfigError on invalid parameters (unknown shape, non-positive mass, ...).
+  HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object);
+  ~HandSim();
+  HandSim(const HandSim&) = delete;
+  HandSim& operator=(const HandSim&) = delete;
+
+  // Sets the servo targets (one per actuated joint). Rejects, and leaves the previous targets in
+  // place, when the size is wrong, a value is not finite, or a value is outside the joint limits.
+  bool SetJointTargets(const std::vector<double>& q, std::string* why);
+  const std::vector<double>& joint_targets() const { return targets_; }
+
+  // One physics step of physics.time_step.
+  void Step();
+
+  double time() const { return time_; }
+  int64_t steps() const { return steps_; }
+  JointReading joints() const;
+  ObjectReading object() const;
+  const std::vector<TipReading>& tactile() const { return tactile_; }
+
+  void ReleaseObject();
+  void HoldObject();
+  bool object_held() const { return held_; }
+  // Back to the initial scenario (joints, object, time).
+  void Reset();
+
+  const HandModel& model() const { return model_; }
+  const Eigen::Isometry3d& palm_pose() const { return palm_pose_; }
+  // Fingertip (tip link origin) positions in the palm frame, from the simulator's own state.
+  Eigen::Vector3d TipPosition(int finger) const;
+  // Teleports the joints (velocities zero) and sets the targets to match. For tests and setup.
+  void SetJointPositions(const std::vector<double>& q);
+
+ private:
+  struct World;
+  void Build();
+  void ApplyServoTorques();
+  void ReadTactile();
+
+  const HandModel& model_;
+  SimParams sim_;
+  ObjectParams object_params_;
+  Eigen::Isometry3d palm_pose_;
+  std::unique_ptr<World> world_;
+  std::vector<double> targets_;
+  std::vector<double> effort_;  // servo torques applied in the last step
+  std::vector<TipReading> tactile_;
+  double time_ = 0.0;
+  int64_t steps_ = 0;
+  bool held_ = false;
+};
+
+// The object's mass properties from its shape (diagonal inertia about the centre, object frame).
+Eigen::Vector3d ObjectInertia(const ObjectParams& object);
+
+}  // namespace dmpl

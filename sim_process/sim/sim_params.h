@@ -1,0 +1,131 @@
+#pragma once
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "components/runtime/params.h"
+
+namespace dmpl {
+
+// The physics settings PyBullet uses for grasping (DESIGN.md §3), not Bullet's game defaults.
+struct PhysicsParams {
+  double time_step = 0.001;           // s
+  int solver_iterations = 50;
+  double contact_erp = 0.08;          // erp2
+  double friction_erp = 0.2;
+  double linear_slop = 1e-5;
+  int minimum_solver_batch_size = 0;
+  double warmstarting_factor = 0.1;
+  double residual_threshold = 1e-7;
+  double collision_margin = 0.0005;   // m; Bullet's 0.04 default is larger than a fingertip
+  bool self_collision = true;         // hand links collide with each other, except parent/child
+  std::array<double, 3> gravity = {0.0, 0.0, -9.81};  // world frame
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(time_step));
+    a->Visit(DMPL_NVP(solver_iterations));
+    a->Visit(DMPL_NVP(contact_erp));
+    a->Visit(DMPL_NVP(friction_erp));
+    a->Visit(DMPL_NVP(linear_slop));
+    a->Visit(DMPL_NVP(minimum_solver_batch_size));
+    a->Visit(DMPL_NVP(warmstarting_factor));
+    a->Visit(DMPL_NVP(residual_threshold));
+    a->Visit(DMPL_NVP(collision_margin));
+    a->Visit(DMPL_NVP(self_collision));
+    a->Visit(DMPL_NVP(gravity));
+  }
+};
+
+// A joint position servo of bounded stiffness, like a real hand's: tau = kp (q* - q) - kd qd
+// (+ gravity compensation of the links), clamped to the URDF effort limit. A blocked finger then
+// presses with a force set by its stiffness and error, not by its torque limit. Gains are given
+// per position in a finger's chain (base joint first) and apply to every finger.
+struct ServoParams {
+  std::vector<double> kp = {2.0, 2.0, 1.5, 1.0};       // N*m/rad
+  std::vector<double> kd = {0.03, 0.03, 0.02, 0.012};  // N*m*s/rad
+  bool gravity_compensation = true;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(kp));
+    a->Visit(DMPL_NVP(kd));
+    a->Visit(DMPL_NVP(gravity_compensation));
+  }
+};
+
+struct TactileParams {
+  double contact_threshold_n = 0.01;  // a fingertip is in contact above this normal force
+  double finger_friction = 1.0;       // Bullet multiplies it with the object's friction
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(contact_threshold_n));
+    a->Visit(DMPL_NVP(finger_friction));
+  }
+};
+
+// Section `sim`.
+struct SimParams {
+  PhysicsParams physics;
+  ServoParams servo;
+  TactileParams tactile;
+  std::array<double, 3> palm_position = {0.0, 0.0, 0.0};  // world, m
+  std::array<double, 3> palm_rpy = {0.0, -1.5707963267948966, 0.0};  // palm up: palm x -> world z
+  std::map<std::string, std::vector<double>> initial_joints;  // finger -> joint angles (rad)
+  int steps_per_tick = 1;
+  double duration_s = 10.0;        // the run ends after this much simulated time
+  double realtime_rate = 1.0;      // real-time mode: sim seconds per wall second
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(physics));
+    a->Visit(DMPL_NVP(servo));
+    a->Visit(DMPL_NVP(tactile));
+    a->Visit(DMPL_NVP(palm_position));
+    a->Visit(DMPL_NVP(palm_rpy));
+    a->Visit(DMPL_NVP(initial_joints));
+    a->Visit(DMPL_NVP(steps_per_tick));
+    a->Visit(DMPL_NVP(duration_s));
+    a->Visit(DMPL_NVP(realtime_rate));
+  }
+  void Validate(const std::string& source) const;
+};
+
+// Section `object`: for the simulator only; no controller ever reads it.
+struct ObjectParams {
+  std::string shape = "sphere";        // sphere, cylinder, box, capsule, ellipsoid
+  double radius = 0.025;               // sphere, cylinder, capsule
+  double length = 0.09;                // cylinder, capsule (along the object's z)
+  std::array<double, 3> size = {0.05, 0.05, 0.05};     // box edge lengths
+  std::array<double, 3> radii = {0.03, 0.025, 0.025};  // ellipsoid semi-axes
+  double mass = 0.05;                  // kg; inertia follows from the shape
+  double friction = 1.0;
+  double rolling_friction = 1e-4;      // > 0, or Bullet ignores spinning friction
+  double spinning_friction = 1e-3;
+  double restitution = 0.0;
+  std::array<double, 3> position = {0.085, 0.0, 0.025};  // palm frame, m
+  std::array<double, 3> rpy = {0.0, 0.0, 0.0};           // palm frame
+  bool held = true;                    // starts fixed in space, "held by a person"
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(shape));
+    a->Visit(DMPL_NVP(radius));
+    a->Visit(DMPL_NVP(length));
+    a->Visit(DMPL_NVP(size));
+    a->Visit(DMPL_NVP(radii));
+    a->Visit(DMPL_NVP(mass));
+    a->Visit(DMPL_NVP(friction));
+    a->Visit(DMPL_NVP(rolling_friction));
+    a->Visit(DMPL_NVP(spinning_friction));
+    a->Visit(DMPL_NVP(restitution));
+    a->Visit(DMPL_NVP(position));
+    a->Visit(DMPL_NVP(rpy));
+    a->Visit(DMPL_NVP(held));
+  }
+  void Validate(const std::string& source) const;
+};
+
+}  // namespace dmpl

@@ -1,0 +1,180 @@
+#include <gtest/gtest.h>
+
+#include "sim_process/sim/hand_sim.h"
+
+namespace dmpl {
+namespace {
+
+HandModel LoadHand() {
+  HandParams p;
+  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
+  return HandModel::Load(p);
+}
+
+TEST(HandSimTest, FreeFallMatchesHalfGTSquared) {
+  const HandModel model = LoadHand();
+  SimParams sim;
+  ObjectParams object;
+  object.position = {0.3, 0.5, 0.5};  // far from the hand
+  HandSim hand(model, sim, object);
+  hand.ReleaseObject();
+  const Eigen::Vector3d p0 = hand.object().pose.translation();
+  const int steps = 300;
+  for (int i = 0; i < steps; ++i) hand.Step();
+  const double t = steps * sim.physics.time_step;
+  // Palm up: world gravity -z is palm -x.
+  const double fallen = p0.x() - hand.object().pose.translation().x();
+  EXPECT_NEAR(fallen, 0.5 * 9.81 * t * t, 0.01 * 0.5 * 9.81 * t * t);
+}
+
+}  // namespace
+}  // namespace dmpl
+
+namespace dmpl {
+namespace {
+
+// The paper's sphere (r = 2.5 cm, 50 g) held by four fingertips; joint angles put the tip
+// centres 4 mm inside the sphere's surface + tip radius, so each servo presses by its stiffness.
+SimParams StaticGraspSim() {
+  SimParams sim;
+  sim.initial_joints = {{"T", {1.0805, 0.6818, 0.7742, 0.8128}},
+                        {"F", {-0.2086, 0.6651, 0.8474, 0.7633}},
+                        {"M", {0.0, 0.5752, 0.7849, 0.7381}},
+                        {"R", {0.2086, 0.6651, 0.8474, 0.7633}}};
+  return sim;
+}
+std::vector<double> SqueezeTargets() {
+  return {1.1372, 0.6229, 0.7914, 0.7343, -0.2385, 0.692, 0.8536, 0.7619,
+          0.0,    0.5904, 0.8202, 0.7605, 0.2385,  0.692, 0.8536, 0.7619};
+}
+
+TEST(HandSimTest, StaticGraspHoldsTheReleasedSphere) {
+  const HandModel model = LoadHand();
+  ObjectParams object;
+  object.position = {0.09, 0.0, 0.02};
+  HandSim hand(model, StaticGraspSim(), object);
+  std::string why;
+  ASSERT_TRUE(hand.SetJointTargets(SqueezeTargets(), &why)) << why;
+  for (int i = 0; i < 300; ++i) hand.Step();  // squeeze the held object
+  hand.ReleaseObject();
+  for (int i = 0; i < 1000; ++i) hand.Step();  // settle 1 s
+  const Eigen::Vector3d p1 = hand.object().pose.translation();
+  double force_sum = 0;
+  int samples = 0;
+  for (int i = 0; i < 5000; ++i) {
+    hand.Step();
+    if (i % 100 == 0) {
+      double total = 0;
+      for (const auto& t : hand.tactile()) {
+        EXPECT_TRUE(t.in_contact);
+        total += t.force;
+      }
+      force_sum += total;
+      ++samples;
+    }
+  }
+  const Eigen::Vector3d p2 = hand.object().pose.translation();
+  const double drift_rate = (p2 - p1).norm() / 5.0;
+  const double weight = object.mass * 9.81;
+  std::printf("drift %.4f mm/s, mean total grip %.3f N (weight %.3f N)\n", drift_rate * 1e3,
+              force_sum / samples, weight);
+  EXPECT_LT(drift_rate, 1e-4);
+  EXPECT_LT(force_sum / samples, 10 * weight);
+}
+
+}  // namespace
+}  // namespace dmpl
+
+namespace dmpl {
+namespace {
+
+TEST(HandSimTest, BoxRestingOnAnUpturnedFingertipWeighsMG) {
+  const HandModel model = LoadHand();
+  SimParams sim;
+  sim.palm_rpy = {0.0, 0.0, 0.0};  // fingers point up (palm z = world z)
+  ObjectParams object;
+  object.shape = "box";
+  object.size = {0.04, 0.04, 0.01};
+  object.mass = 0.05;
+  // Straight middle finger: tip centre at z = 0.1362; the box rests on the tip sphere.
+  object.position = {0.0, 0.0, 0.1362 + 0.012 + 0.005 + 0.0005};
+  HandSim hand(model, sim, object);
+  hand.ReleaseObject();
+  for (int i = 0; i < 500; ++i) hand.Step();
+  const int m = model.FindFinger("M");
+  double sum = 0;
+  const int n = 500;
+  for (int i = 0; i < n; ++i) {
+    hand.Step();
+    sum += hand.tactile()[m].force;
+    EXPECT_TRUE(hand.tactile()[m].in_contact);
+  }
+  const double weight = object.mass * 9.81;
+  EXPECT_NEAR(sum / n, weight, 0.05 * weight);
+  // The normal points from the object into the fingertip: down.
+  EXPECT_LT(hand.tactile()[m].normal.z(), -0.99);
+  EXPECT_NEAR(hand.tactile()[m].position.z(), 0.1362 + 0.012, 5e-4);
+}
+
+TEST(HandSimTest, BadJointTargetsAreRejectedAndNeverReachThePhysics) {
+  const HandModel model = LoadHand();
+  HandSim hand(model, SimParams{}, ObjectParams{});
+  const std::vector<double> before = hand.joint_targets();
+  std::string why;
+  std::vector<double> q = before;
+  q[5] = std::nan("");
+  EXPECT_FALSE(hand.SetJointTargets(q, &why));
+  EXPECT_NE(why.find("F_j1"), std::string::npos) << why;
+  q = before;
+  q[2] = 3.0;  // beyond T_j2's upper limit
+  EXPECT_FALSE(hand.SetJointTargets(q, &why));
+  EXPECT_NE(why.find("outside"), std::string::npos) << why;
+  EXPECT_FALSE(hand.SetJointTargets({0.1, 0.2}, &why));
+  EXPECT_EQ(hand.joint_targets(), before);
+}
+
+TEST(HandSimTest, SameCommandsGiveTheSameTrajectory) {
+  const HandModel model = LoadHand();
+  ObjectParams object;
+  object.position = {0.09, 0.0, 0.02};
+  auto run = [&] {
+    HandSim hand(model, StaticGraspSim(), object);
+    std::string why;
+    hand.SetJointTargets(SqueezeTargets(), &why);
+    for (int i = 0; i < 200; ++i) hand.Step();
+    hand.ReleaseObject();
+    for (int i = 0; i < 300; ++i) hand.Step();
+    return hand.object().pose;
+  };
+  const Eigen::Isometry3d a = run(), b = run();
+  EXPECT_EQ(a.translation(), b.translation());
+  EXPECT_TRUE(a.linear() == b.linear());
+}
+
+TEST(HandSimTest, ObjectShapesAndBadObjects) {
+  const HandModel model = LoadHand();
+  for (const char* shape : {"sphere", "cylinder", "box", "capsule", "ellipsoid"}) {
+    ObjectParams object;
+    object.shape = shape;
+    object.position = {0.3, 0.5, 0.5};
+    HandSim hand(model, SimParams{}, object);
+    hand.ReleaseObject();
+    for (int i = 0; i < 10; ++i) hand.Step();
+    EXPECT_LT(hand.object().linear_velocity.x(), -0.05) << shape << " falls";
+  }
+  ObjectParams bad;
+  bad.mass = -1;
+  EXPECT_THROW(HandSim(model, SimParams{}, bad), ConfigError);
+  bad = ObjectParams{};
+  bad.shape = "torus";
+  EXPECT_THROW(HandSim(model, SimParams{}, bad), ConfigError);
+  // Analytic inertias: a sphere 2/5 m r^2, a cylinder m r^2 / 2 about its axis.
+  ObjectParams sphere;
+  EXPECT_NEAR(ObjectInertia(sphere).x(), 0.4 * 0.05 * 0.025 * 0.025, 1e-12);
+  ObjectParams cyl;
+  cyl.shape = "cylinder";
+  EXPECT_NEAR(ObjectInertia(cyl).z(), 0.5 * 0.05 * 0.025 * 0.025, 1e-12);
+}
+
+}  // namespace
+}  // namespace dmpl
