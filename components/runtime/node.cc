@@ -143,6 +143,8 @@ NodeCommandLine ParseNodeCommandLine(int argc, char** argv) {
       cl.name = need_value(i, arg);
     } else if (arg == "--print-config") {
       cl.print_config = true;
+    } else if (arg == "--check") {
+      cl.check = true;
     } else if (arg == "--help" || arg == "-h") {
       cl.help = true;
     } else if (arg.rfind("--", 0) == 0) {
@@ -163,7 +165,7 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
     if (cl.help) {
       std::cout << "usage: " << default_name
                 << " [--config FILE] [--params FILE]... [--set key=value]... [--lcm-url URL]"
-                   " [--name NAME] [--print-config]\n"
+                   " [--name NAME] [--print-config] [--check]\n"
                 << usage << "\n";
       return 0;
     }
@@ -176,7 +178,8 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
   }
   auto log = MakeLogger(ctx.name);
   const std::string url = ResolveLcmUrl(cl.lcm_url, ctx.run);
-  lcm::LCM lcm(url);
+  // --check builds the node on an in-process bus: it validates, and needs no network.
+  lcm::LCM lcm(cl.check ? std::string("memq://") : url);
   if (!lcm.good()) {
     log->critical("cannot open LCM at '{}' (is there a multicast route on lo? see README)", url);
     return 3;
@@ -191,6 +194,10 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
   }
   if (cl.print_config) {
     std::cout << YAML::Dump(ctx.config.root()) << "\n";
+    return 0;
+  }
+  if (cl.check) {
+    std::cout << ctx.name << ": configuration OK (" << ctx.config.source() << ")\n";
     return 0;
   }
   InstallStopSignalHandlers();

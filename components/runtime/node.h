@@ -90,7 +90,7 @@ std::shared_ptr<spdlog::logger> MakeLogger(const std::string& name);
 
 // The command line every node understands:
 //   --config FILE  --params FILE (overlay, repeatable)  --set key=value (repeatable)
-//   --lcm-url URL  --name NAME  --print-config  --help
+//   --lcm-url URL  --name NAME  --print-config  --check  --help
 struct NodeCommandLine {
   std::string config_file;
   std::vector<std::string> params_files;
@@ -98,6 +98,7 @@ struct NodeCommandLine {
   std::string lcm_url;
   std::string name;
   bool print_config = false;
+  bool check = false;  // validate the configuration, build the node, exit
   bool help = false;
   std::vector<std::string> positional;
 };

@@ -1,0 +1,367 @@
+// dmpl_sim: the Bullet hand simulator on LCM. Reads sections: run, hand, sim, object.
+//
+// Lockstep (run.lockstep): once every process in run.lockstep_participants has sent a heartbeat,
+// publish the truth of tick 0; then for each tick k wait for JOINT_CMD with seq k, step, publish
+// tick k+1. A missing command is a fault reported with its seq, never a silent hold; after
+// run.max_tick_faults faults the simulator gives up (exit 4).
+// Real time: step on the wall clock (sim.realtime_rate), use the latest command, count late ones.
+#include <cmath>
+#include <deque>
+
+#include "components/hand/hand_model.h"
+#include "components/runtime/channels.h"
+#include "components/runtime/clock.h"
+#include "components/runtime/node.h"
+#include "dmpl/heartbeat_t.hpp"
+#include "dmpl/joint_cmd_t.hpp"
+#include "dmpl/joint_state_t.hpp"
+#include "dmpl/object_pose_t.hpp"
+#include "dmpl/sim_control_t.hpp"
+#include "dmpl/sim_status_t.hpp"
+#include "dmpl/tactile_t.hpp"
+#include "sim_process/sim/hand_sim.h"
+
+namespace dmpl {
+namespace {
+
+constexpr int kExitLockstepFault = 4;
+
+class SimNode : public Node {
+ public:
+  SimNode(const NodeContext& ctx, HandModel model, const SimParams& sim, const ObjectParams& object)
+      : Node(ctx.name, ctx.lcm),
+        run_(ctx.run),
+        sim_params_(sim),
+        model_(std::move(model)),
+        sim_(model_, sim, object) {
+    lcm().subscribe(channels::kJointCmd, &SimNode::OnJointCmd, this);
+    lcm().subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
+    lcm().subscribe(channels::kHeartbeat, &SimNode::OnHeartbeat, this);
+    for (const auto& p : run_.lockstep_participants) waiting_for_.push_back(p);
+    PrepareMessages();
+    if (run_.lockstep) {
+      AddTimer(0.05, [this] { CheckLockstep(); });
+    } else {
+      AddTimer(sim_params_.physics.time_step / sim_params_.realtime_rate, [this] { RealTimeStep(); });
+    }
+    AddTimer(2.0, [this] { ReportProgress(); });
+  }
+
+  void OnStart() override {
+    set_status(heartbeat_t::STARTING, "waiting for lockstep participants");
+    if (run_.lockstep && waiting_for_.empty()) Begin();
+    if (!run_.lockstep) Begin();
+  }
+
+ private:
+  // --- messages -----------------------------------------------------------------------------
+  void PrepareMessages() {
+    const auto names = model_.actuated_names();
+    joints_msg_.num_joints = static_cast<int16_t>(names.size());
+    joints_msg_.name = names;
+    joints_msg_.position.resize(names.size());
+    joints_msg_.velocity.resize(names.size());
+    joints_msg_.effort.resize(names.size());
+    tactile_msg_.num_fingers = static_cast<int8_t>(model_.fingers().size());
+    tactile_msg_.fingers.resize(model_.fingers().size());
+    for (size_t f = 0; f < model_.fingers().size(); ++f) {
+      tactile_msg_.fingers[f].finger = model_.fingers()[f].name;
+    }
+  }
+
+  void PublishState() {
+    const int64_t utime = std::llround(sim_.time() * 1e6);
+    const JointReading j = sim_.joints();
+    joints_msg_.utime = utime;
+    joints_msg_.seq = tick_;
+    joints_msg_.position = j.position;
+    joints_msg_.velocity = j.velocity;
+    joints_msg_.effort = j.effort;
+    lcm().publish(channels::kHandStateTrue, &joints_msg_);
+
+    const ObjectReading o = sim_.object();
+    object_pose_t pose{};
+    pose.utime = utime;
+    pose.seq = tick_;
+    pose.valid = true;
+    const Eigen::Quaterniond q(o.pose.linear());
+    for (int i = 0; i < 3; ++i) {
+      pose.position[i] = o.pose.translation()[i];
+      pose.linear_velocity[i] = o.linear_velocity[i];
+      pose.angular_velocity[i] = o.angular_velocity[i];
+    }
+    pose.orientation[0] = q.w();
+    pose.orientation[1] = q.x();
+    pose.orientation[2] = q.y();
+    pose.orientation[3] = q.z();
+    lcm().publish(channels::kObjectPoseTrue, &pose);
+
+    tactile_msg_.utime = utime;
+    tactile_msg_.seq = tick_;
+    const auto& tips = sim_.tactile();
+    for (size_t f = 0; f < tips.size(); ++f) {
+      fingertip_contact_t& c = tactile_msg_.fingers[f];
+      c.in_contact = tips[f].in_contact;
+      c.force_n = tips[f].force;
+      c.num_points = static_cast<int16_t>(tips[f].points);
+      for (int i = 0; i < 3; ++i) {
+        c.position[i] = tips[f].position[i];
+        c.normal[i] = tips[f].normal[i];
+      }
+    }
+    lcm().publish(channels::kTactileTrue, &tactile_msg_);
+    published_at_ = MonotonicSeconds();
+    set_tick(tick_);
+    // Status at 10 Hz of simulated time, and whenever something went wrong.
+    if (tick_ % std::max<int64_t>(1, std::llround(0.1 / TickSeconds())) == 0) PublishStatus();
+  }
+
+  void PublishStatus() {
+    sim_status_t s{};
+    s.utime = std::llround(sim_.time() * 1e6);
+    s.seq = tick_;
+    s.sim_time_s = sim_.time();
+    s.lockstep = run_.lockstep;
+    s.paused = paused_;
+    s.object_held = sim_.object_held();
+    s.steps = sim_.steps();
+    s.faults = faults_;
+    s.rejected_commands = rejected_;
+    s.late_commands = late_;
+    s.step_us = step_us_;
+    s.last_fault = last_fault_;
+    lcm().publish(channels::kSimStatus, &s);
+  }
+
+  double TickSeconds() const { return sim_params_.physics.time_step * sim_params_.steps_per_tick; }
+
+  // --- lockstep -----------------------------------------------------------------------------
+  void OnHeartbeat(const lcm::ReceiveBuffer*, const std::string&, const heartbeat_t* hb) {
+    if (started_) return;
+    for (auto it = waiting_for_.begin(); it != waiting_for_.end(); ++it) {
+      if (*it == hb->process) {
+        waiting_for_.erase(it);
+        break;
+      }
+    }
+    if (waiting_for_.empty()) Begin();
+  }
+
+  void Begin() {
+    if (started_) return;
+    started_ = true;
+    set_status(heartbeat_t::RUNNING, run_.lockstep ? "lockstep" : "real time");
+    log().info("starting at tick 0 ({})", run_.lockstep ? "lockstep" : "real time");
+    wall_start_ = MonotonicSeconds();
+    PublishState();
+  }
+
+  void OnJointCmd(const lcm::ReceiveBuffer*, const std::string&, const joint_cmd_t* cmd) {
+    if (!started_) return;
+    if (run_.lockstep) {
+      if (cmd->seq != tick_ || awaiting_resume_) {
+        if (cmd->seq < tick_) ++stale_;
+        return;
+      }
+      ApplyCommand(*cmd);
+      if (paused_) {
+        awaiting_resume_ = true;
+        return;
+      }
+      Advance();
+    } else {
+      if (cmd->seq < tick_ - 1) ++late_;
+      ApplyCommand(*cmd);
+    }
+  }
+
+  void ApplyCommand(const joint_cmd_t& cmd) {
+    std::string why;
+    bool ok = cmd.num_joints == model_.num_actuated() &&
+              static_cast<int>(cmd.position.size()) == model_.num_actuated() &&
+              static_cast<int>(cmd.name.size()) == model_.num_actuated();
+    if (!ok) {
+      why = "joint command with " + std::to_string(cmd.num_joints) + " joints, expected " +
+            std::to_string(model_.num_actuated());
+    } else {
+      for (int i = 0; i < model_.num_actuated() && ok; ++i) {
+        if (cmd.name[i] != joints_msg_.name[i]) {
+          ok = false;
+          why = "joint command names joint " + std::to_string(i) + " '" + cmd.name[i] +
+                "', expected '" + joints_msg_.name[i] + "'";
+        }
+      }
+      ok = ok && sim_.SetJointTargets(cmd.position, &why);
+    }
+    if (!ok) {
+      ++rejected_;
+      last_fault_ = "rejected command seq " + std::to_string(cmd.seq) + ": " + why;
+      if (rejected_ <= 5 || rejected_ % 1000 == 0) {
+        log().warn("{} (rejected so far: {})", last_fault_, rejected_);
+      }
+      PublishStatus();
+    }
+  }
+
+  void ApplyControls() {
+    while (!controls_.empty() && controls_.front().seq <= tick_) {
+      Apply(controls_.front());
+      controls_.pop_front();
+    }
+  }
+
+  void Apply(const sim_control_t& c) {
+    switch (c.command) {
+      case sim_control_t::RELEASE:
+        if (sim_.object_held()) log().info("object released at t = {:.3f} s", sim_.time());
+        sim_.ReleaseObject();
+        break;
+      case sim_control_t::HOLD:
+        sim_.HoldObject();
+        break;
+      case sim_control_t::RESET:
+        sim_.Reset();
+        log().info("reset to the initial scenario");
+        break;
+      case sim_control_t::PAUSE:
+        paused_ = true;
+        break;
+      case sim_control_t::RESUME:
+        paused_ = false;
+        break;
+      case sim_control_t::STOP:
+        log().info("stop requested ({}) at t = {:.3f} s", c.reason, sim_.time());
+        Finish();
+        break;
+      default:
+        log().warn("unknown sim control command {}", static_cast<int>(c.command));
+    }
+    PublishStatus();
+  }
+
+  void OnSimControl(const lcm::ReceiveBuffer*, const std::string&, const sim_control_t* c) {
+    // Lockstep: a control carrying seq s takes effect before the step from tick s, so it lands
+    // at the same tick in every run. Without a seq (< 0) it applies at the next step.
+    sim_control_t control = *c;
+    if (control.seq < 0) control.seq = tick_;
+    if (run_.lockstep && control.seq < tick_) {
+      log().warn("late sim control for seq {} applied at tick {}", control.seq, tick_);
+    }
+    if (control.command == sim_control_t::RESUME || control.command == sim_control_t::PAUSE ||
+        control.command == sim_control_t::STOP) {
+      Apply(control);  // these act on the loop itself, now
+      if (control.command == sim_control_t::RESUME && awaiting_resume_) {
+        awaiting_resume_ = false;  // the command of this tick was applied when it came
+        Advance();
+      }
+      return;
+    }
+    controls_.push_back(control);
+  }
+
+  void Advance() {
+    ApplyControls();
+    if (exit_requested()) return;
+    const double t0 = MonotonicSeconds();
+    for (int i = 0; i < sim_params_.steps_per_tick; ++i) sim_.Step();
+    step_us_ = (MonotonicSeconds() - t0) * 1e6 / sim_params_.steps_per_tick;
+    ++tick_;
+    if (sim_.time() >= sim_params_.duration_s - 1e-9) {
+      PublishState();
+      log().info("reached the end of the run at t = {:.3f} s", sim_.time());
+      Finish();
+      return;
+    }
+    PublishState();
+  }
+
+  void Finish() {
+    PublishStatus();
+    const double wall = MonotonicSeconds() - wall_start_;
+    log().info("simulated {:.3f} s in {:.3f} s of wall time (real-time factor {:.2f}); faults {}, "
+               "rejected commands {}, stale {}",
+               sim_.time(), wall, wall > 0 ? sim_.time() / wall : 0.0, faults_, rejected_, stale_);
+    RequestExit(faults_ >= run_.max_tick_faults ? kExitLockstepFault : 0);
+  }
+
+  void CheckLockstep() {
+    if (!started_) {
+      if (MonotonicSeconds() - created_ > run_.tick_timeout_s * 10) {
+        std::string missing;
+        for (const auto& w : waiting_for_) missing += " " + w;
+        log().error("lockstep participants never appeared:{}", missing);
+        RequestExit(kExitLockstepFault);
+      }
+      return;
+    }
+    if (paused_ || exit_requested()) return;
+    if (MonotonicSeconds() - published_at_ < run_.tick_timeout_s) return;
+    ++faults_;
+    last_fault_ = "lockstep fault: no JOINT_CMD for seq " + std::to_string(tick_) + " within " +
+                  std::to_string(run_.tick_timeout_s) + " s";
+    log().error("{} (fault {}/{})", last_fault_, faults_, run_.max_tick_faults);
+    PublishStatus();
+    published_at_ = MonotonicSeconds();
+    if (faults_ >= run_.max_tick_faults) {
+      log().error("giving up after {} lockstep faults", faults_);
+      Finish();
+    }
+  }
+
+  // --- real time ----------------------------------------------------------------------------
+  void RealTimeStep() {
+    if (!started_ || paused_ || exit_requested()) return;
+    const double due = (MonotonicSeconds() - wall_start_) * sim_params_.realtime_rate;
+    // Catch up, but never more than a few steps at once (no spiral of death).
+    for (int i = 0; i < 5 && sim_.time() + TickSeconds() <= due + 1e-9; ++i) {
+      Advance();
+      if (exit_requested()) return;
+    }
+  }
+
+  void ReportProgress() {
+    if (!started_) return;
+    set_status(heartbeat_t::RUNNING, "t = " + std::to_string(sim_.time()) + " s");
+  }
+
+  RunParams run_;
+  SimParams sim_params_;
+  HandModel model_;
+  HandSim sim_;
+  joint_state_t joints_msg_;
+  tactile_t tactile_msg_;
+  std::vector<std::string> waiting_for_;
+  std::deque<sim_control_t> controls_;
+  bool started_ = false;
+  bool paused_ = false;
+  bool awaiting_resume_ = false;
+  int64_t tick_ = 0;
+  int faults_ = 0;
+  int rejected_ = 0;
+  int late_ = 0;
+  int64_t stale_ = 0;
+  double step_us_ = 0;
+  std::string last_fault_;
+  double created_ = MonotonicSeconds();
+  double published_at_ = 0;
+  double wall_start_ = 0;
+};
+
+}  // namespace
+}  // namespace dmpl
+
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(
+      argc, argv, "dmpl_sim", "Reads sections: run, hand, sim, object.",
+      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
+        dmpl::HandParams hand;
+        dmpl::SimParams sim;
+        dmpl::ObjectParams object;
+        ctx.config.Load("hand", &hand);
+        ctx.config.Load("sim", &sim);
+        ctx.config.Load("object", &object);
+        sim.Validate(ctx.config.source());
+        object.Validate(ctx.config.source());
+        return std::make_unique<dmpl::SimNode>(ctx, dmpl::HandModel::Load(hand), sim, object);
+      });
+}

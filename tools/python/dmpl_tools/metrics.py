@@ -1,0 +1,187 @@
+"""Metrics of a run, from the truth channels of its log (never from the controller's belief).
+
+Definitions (DESIGN.md section 6; the run's config section `metrics` sets the thresholds):
+- release: the first SIM_CONTROL RELEASE (t = 0 if the object was never held).
+- task begin: the first supervisor status in the task phase; without a supervisor, release +
+  metrics.settle_s.
+- object_dropped: after release the object's centre moved more than drop_distance_m from where it
+  was released, or no fingertip touched it for longer than drop_no_contact_s. Either means the
+  hand no longer holds it: it fell out, or lies somewhere the fingertips do not reach.
+- max_position_drift_m: largest distance of the centre from its position at task begin.
+- rotation_total_rad: rotation about task.axis (palm frame) from task begin to the end, summed
+  step by step so that whole turns count.
+- final_orientation_error_rad: angle between the final true orientation and the last commanded
+  object orientation (the orientation at task begin when nothing was commanded).
+- grip_force_total_n: mean over time of the summed fingertip normal forces while held.
+- contacts_lost: grip fingers (per the supervisor's roles; every finger without a supervisor)
+  whose contact disappears for longer than contact_loss_s while the object is held.
+"""
+import numpy as np
+
+from .logdata import AXES, angle_between, cumulative_rotation
+from dmpl import sim_control_t
+
+ROLE_GRIP = 1
+ROLE_EXPLORE = 2
+
+
+def compute(data, config):
+    m = config["metrics"]
+    obj = data.object
+    summary = {}
+    if len(obj) == 0:
+        return {"error": "the log has no object truth (DMPL_OBJECT_POSE_TRUE)"}
+    t = obj.t
+    releases = [seq for seq, cmd, _ in data.controls if cmd == sim_control_t.RELEASE]
+    held_at_start = config.get("object", {}).get("held", True)
+    t_release = data.time_of_seq(releases[0]) if releases else (None if held_at_start else t[0])
+    summary["sim_time_s"] = float(t[-1])
+    summary["released_at_s"] = t_release
+    axis_name = str(config.get("task", {}).get("axis", "x"))
+    axis = AXES.get(axis_name, AXES["x"])
+
+    if t_release is None:
+        summary.update(object_dropped=False, note="the object was never released")
+        return summary
+    i_rel = int(np.searchsorted(t, t_release))
+    sup = data.supervisor
+    t_begin = None
+    if len(sup):
+        in_task = [i for i, s in enumerate(sup["grasp_state"]) if s == "Tasks"]
+        if in_task:
+            t_begin = float(sup.t[in_task[0]])
+    if t_begin is None:
+        t_begin = t_release + m["settle_s"]
+    i_begin = min(int(np.searchsorted(t, t_begin)), len(t) - 1)
+    summary["task_began_at_s"] = float(t[i_begin])
+
+    # Drops.
+    pos = obj["position"]
+    moved = np.linalg.norm(pos[i_rel:] - pos[i_rel], axis=1)
+    tact = data.tactile
+    dropped = bool(moved.max(initial=0.0) > m["drop_distance_m"])
+    if len(tact):
+        after = tact.t >= t_release
+        touching = tact["in_contact"][after].any(axis=1)
+        longest = _longest_false_run(touching, tact.t[after])
+        dropped = dropped or longest > m["drop_no_contact_s"]
+        summary["longest_no_contact_s"] = float(longest)
+    summary["object_dropped"] = dropped
+
+    drift = np.linalg.norm(pos[i_begin:] - pos[i_begin], axis=1)
+    summary["max_position_drift_m"] = float(drift.max(initial=0.0))
+    duration = t[-1] - t[i_begin]
+    summary["drift_rate_m_per_s"] = float(drift[-1] / duration) if duration > 0 else 0.0
+
+    q = obj["orientation"]
+    rotation = cumulative_rotation(q[i_begin:], axis)
+    summary["rotation_total_rad"] = float(rotation[-1]) if len(rotation) else 0.0
+    tasks = data.tasks
+    targets = tasks["orientation"][tasks["has_target"]] if len(tasks) else []
+    target = targets[-1] if len(targets) else q[i_begin]
+    summary["final_orientation_error_rad"] = float(angle_between(target[None], q[-1:])[0])
+
+    if len(tact):
+        held = (tact.t >= t_release)
+        summary["grip_force_total_n"] = float(tact["force"][held].sum(axis=1).mean()) if held.any() else 0.0
+        summary["contacts_lost"] = _contacts_lost(data, t_release, m["contact_loss_s"])
+    if len(sup):
+        summary["regrasps"] = int(sup["regrasps"][-1])
+        summary["rotation_commanded_rad"] = float(sup["rotation_commanded"][-1])
+        summary["max_tracking_error_rad"] = _tracking_error(data, t, rotation, i_begin)
+        summary["supervisor_state"] = sup["grasp_state"][-1]
+        summary["supervisor_finished"] = bool(sup["finished"][-1])
+        summary["supervisor_failed"] = bool(sup["failed"][-1])
+        summary.update(_exploration(data, t_begin))
+    else:
+        summary["regrasps"] = 0
+    if data.sim_status:
+        last = data.sim_status[-1]
+        summary["lockstep_faults"] = int(last.faults)
+        summary["rejected_commands"] = int(last.rejected_commands)
+        if last.last_fault:
+            summary["last_fault"] = last.last_fault
+    return summary
+
+
+def _longest_false_run(flags, times):
+    longest, start = 0.0, None
+    for flag, t in zip(flags, times):
+        if not flag and start is None:
+            start = t
+        elif flag and start is not None:
+            longest, start = max(longest, t - start), None
+    if start is not None and len(times):
+        longest = max(longest, times[-1] - start)
+    return longest
+
+
+def _roles_at(data, times):
+    """Role of each finger at the given times (grip for every finger without a supervisor)."""
+    sup = data.supervisor
+    nf = len(data.fingers)
+    if not len(sup):
+        return np.full((len(times), nf), ROLE_GRIP)
+    idx = np.clip(np.searchsorted(sup.t, times, side="right") - 1, 0, len(sup) - 1)
+    order = [sup["finger"][0].index(f) if f in sup["finger"][0] else None for f in data.fingers]
+    roles = np.full((len(times), nf), ROLE_GRIP)
+    for k, j in enumerate(order):
+        if j is not None:
+            roles[:, k] = sup["roles"][idx, j]
+    return roles
+
+
+def _contacts_lost(data, t_release, min_gap):
+    """Counts gaps in a grip finger's contact that follow a contact and last over min_gap."""
+    tact = data.tactile
+    sel = tact.t >= t_release
+    times, contact = tact.t[sel], tact["in_contact"][sel]
+    roles = _roles_at(data, times)
+    lost = 0
+    for f in range(contact.shape[1]):
+        gap_start, counted, touched = None, False, False
+        for i in range(len(times)):
+            gripping = roles[i, f] == ROLE_GRIP
+            if contact[i, f] or not gripping:
+                gap_start = None
+                touched = touched or contact[i, f]
+                if not gripping:
+                    touched = False  # a new grip starts over: it must touch first
+                continue
+            if not touched:
+                continue
+            if gap_start is None:
+                gap_start, counted = times[i], False
+            elif not counted and times[i] - gap_start > min_gap:
+                lost += 1
+                counted = True
+    return lost
+
+
+def _tracking_error(data, t, rotation, i_begin):
+    sup = data.supervisor
+    if len(rotation) == 0:
+        return 0.0
+    tt = t[i_begin:]
+    idx = np.clip(np.searchsorted(sup.t, tt, side="right") - 1, 0, len(sup) - 1)
+    commanded = sup["rotation_commanded"][idx]
+    return float(np.abs(rotation - commanded).max())
+
+
+def _exploration(data, t_begin):
+    """Force of exploring fingers against the force they were asked for (Fig. 9)."""
+    ctl, tact = data.controller, data.tactile
+    if not len(ctl) or not len(tact):
+        return {}
+    sel = tact.t >= t_begin
+    times = tact.t[sel]
+    idx = np.clip(np.searchsorted(ctl.t, times, side="right") - 1, 0, len(ctl) - 1)
+    roles, desired = ctl["role"][idx], ctl["desired_force"][idx]
+    force = tact["force"][sel]
+    mask = roles == ROLE_EXPLORE
+    if not mask.any():
+        return {}
+    err = force[mask] - desired[mask]
+    return {"exploration_force_mean_n": float(force[mask].mean()),
+            "exploration_force_rms_error_n": float(np.sqrt((err ** 2).mean())),
+            "exploration_time_s": float(mask.any(axis=1).sum() * np.median(np.diff(times)))}

@@ -1,0 +1,117 @@
+"""tools/dmpl run CONFIG: one experiment -> DIR/summary.json and DIR/run.lcmlog (DESIGN.md §6)."""
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from . import experiment, metrics
+from .launch import Launcher, SetError, parse_set
+from .logdata import LogData
+from .paths import BUILD, ROOT
+
+
+def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
+                   echo=True, progress=None):
+    """Runs one experiment and returns its summary (also written to OUT/summary.json)."""
+    config = experiment.resolve(config_path, params, sets, seed)
+    name = config["experiment"]["name"]
+    out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    out.mkdir(parents=True, exist_ok=True)
+    resolved = out / "config.yaml"
+    experiment.write(config, resolved)
+    experiment.check_processes(resolved, config)
+    variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved)}
+    pset = parse_set({"name": name, "processes": config["processes"]}, f"{config_path}: processes",
+                     variables)
+    launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
+                        echo=echo)
+    if progress:
+        progress.attach(launcher)
+    launcher.say(f"experiment '{name}' -> {out} (LCM {launcher.url})")
+    wall0 = time.monotonic()
+    code = launcher.run(duration=config["experiment"].get("timeout_s", 600))
+    wall = time.monotonic() - wall0
+    if progress:
+        progress.done()
+
+    summary = {"status": "failed", "experiment": name, "seed": config.get("run", {}).get("seed", 1),
+               "object_shape": config.get("object", {}).get("shape", "sphere"),
+               "object_mass_kg": config.get("object", {}).get("mass", 0.05)}
+    log_path = out / "run.lcmlog"
+    if log_path.exists():
+        data = LogData(log_path)
+        summary.update(metrics.compute(data, config))
+    else:
+        summary["error"] = "no log was recorded"
+    summary["wall_time_s"] = wall
+    sim_time = summary.get("sim_time_s", 0.0)
+    summary["realtime_factor"] = sim_time / wall if wall > 0 else 0.0
+    summary["exit_code"] = code
+    timed_out = launcher.ended_by is None and str(launcher.stop_requested).startswith("duration")
+    problems = []
+    if timed_out:
+        problems.append("wall-clock timeout")
+    if code != 0:
+        problems.append(f"process failure: {', '.join(sorted(set(launcher.failed)))}")
+    if summary.get("object_dropped") and not config["metrics"]["allow_drop"]:
+        problems.append("object dropped")
+    if summary.get("supervisor_failed"):
+        problems.append("supervisor failed")
+    if "supervisor_finished" in summary and not summary["supervisor_finished"]:
+        problems.append("supervisor did not finish its tasks")
+    if "error" in summary:
+        problems.append(summary["error"])
+    summary["status"] = "timeout" if timed_out else ("failed" if problems else "success")
+    if problems:
+        summary["problems"] = problems
+    with open(out / "summary.json", "w") as f:
+        json.dump(summary, f, indent=2, sort_keys=True)
+    return summary, out
+
+
+HEADLINE = ["status", "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
+            "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
+            "sim_time_s", "wall_time_s", "realtime_factor"]
+
+
+def print_headline(summary, out, stream=sys.stdout):
+    print(f"\nsummary: {out / 'summary.json'}", file=stream)
+    for key in HEADLINE:
+        if key in summary:
+            v = summary[key]
+            print(f"  {key:30s} {v:.4g}" if isinstance(v, float) else f"  {key:30s} {v}",
+                  file=stream)
+    for p in summary.get("problems", []):
+        print(f"  problem: {p}", file=stream)
+
+
+def add_common_args(ap):
+    ap.add_argument("config", help="experiment config (configs/experiments/*.yaml)")
+    ap.add_argument("--seed", type=int, help="run.seed")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="override any config key, e.g. object.radius=0.03")
+    ap.add_argument("--params", action="append", default=[], metavar="FILE",
+                    help="overlay a parameter file (e.g. calibrated gains)")
+    ap.add_argument("--lcm-url", help="LCM URL (default: run.lcm_url, $LCM_DEFAULT_URL, or the "
+                    "dmpl default)")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="tools/dmpl run", description=__doc__)
+    add_common_args(ap)
+    ap.add_argument("--out", help="output directory (default out/runs/NAME-TIME)")
+    ap.add_argument("--quiet", action="store_true", help="keep process output in the log files only")
+    args = ap.parse_args(argv)
+    try:
+        summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
+                                      args.lcm_url, echo=not args.quiet)
+    except (experiment.ExperimentError, SetError) as e:
+        print(f"dmpl run: error: {e}", file=sys.stderr)
+        return 2
+    print_headline(summary, out)
+    return 0 if summary["status"] == "success" else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
