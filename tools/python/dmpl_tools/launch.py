@@ -4,7 +4,7 @@ A set file:
 
     name: noise_demo
     lcm_url: udpm://239.255.76.67:7667?ttl=0   # optional; else $LCM_DEFAULT_URL, else the default
-    record: true                                # lcm-logger -> RUN_DIR/run.lcmlog
+    record: true                                # dmpl_record -> RUN_DIR/run.lcmlog
     processes:
       - name: noise
         exec: dmpl_noise                        # build/bin first, then PATH
@@ -41,6 +41,19 @@ from . import channels
 from .paths import BUILD, ROOT, executable
 
 DEFAULT_LCM_URL = "udpm://239.255.76.67:7667?ttl=0"
+
+
+RECEIVE_BUFFER_BYTES = 4 * 1024 * 1024
+
+
+def with_receive_buffer(url):
+    """Adds a large socket receive buffer to a udpm URL. At 1 kHz lockstep every process reads
+    every message on the group (~5 MB/s); the kernel's default 208 KB fills in 40 ms when a
+    process is not scheduled, and a lost message stalls the lockstep or leaves a hole in the log.
+    The kernel caps it at net.core.rmem_max (tools/dmpl raises that)."""
+    if not url.startswith("udpm://") or "recv_buf_size" in url:
+        return url
+    return url + ("&" if "?" in url else "?") + f"recv_buf_size={RECEIVE_BUFFER_BYTES}"
 
 
 class SetError(Exception):
@@ -191,7 +204,8 @@ class Launcher:
         self.pset = pset
         self.run_dir = Path(run_dir)
         self.run_dir.mkdir(parents=True, exist_ok=True)
-        self.url = lcm_url or pset.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
+        self.url = with_receive_buffer(
+            lcm_url or pset.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
         self.record = pset.record if record is None else record
         self.echo = echo
         self.procs = [_Proc(s, self.run_dir) for s in sorted(
@@ -313,8 +327,8 @@ class Launcher:
         if not self.record:
             return
         log_path = self.run_dir / "run.lcmlog"
-        spec = ProcessSpec(name="lcm-logger", exec=executable("lcm-logger"),
-                           args=["-f", "-q", f"--lcm-url={self.url}", "-c", self.pset.record_channels,
+        spec = ProcessSpec(name="recorder", exec=executable("dmpl_record"),
+                           args=["--lcm-url", self.url, "--channels", self.pset.record_channels,
                                  str(log_path)],
                            required=True, stop_signal="SIGINT", stop_time_allowed=10.0)
         self.logger = _Proc(spec, self.run_dir)
@@ -442,8 +456,8 @@ class Launcher:
                     p.stop_deadline = None
             if self.logger and self.logger.popen.poll() is not None and self.stop_requested is None:
                 self._reap(self.logger, now)
-                self.failed.append("lcm-logger")
-                self.request_stop("lcm-logger died: the run would not be recorded")
+                self.failed.append("recorder")
+                self.request_stop("the recorder died: the run would not be recorded")
             if duration is not None and now - t0 > duration:
                 self.request_stop(f"duration of {duration} s reached")
             if now >= next_status:
@@ -458,12 +472,16 @@ class Launcher:
                 break
             self._read_ready(0.05)
         self.publish_status()
-        if self.logger:
+        if self.logger and self.logger.popen.poll() is None:
             self.stop(self.logger)
             try:
                 self.logger.popen.wait(timeout=self.logger.spec.stop_time_allowed)
             except subprocess.TimeoutExpired:
                 self._signal_group(self.logger, signal.SIGKILL)
+                self.logger.popen.wait()
+            self._reap(self.logger, time.monotonic())
+            if self.logger.exit_code != 0:
+                self.failed.append("recorder")
         if self.failed:
             self.say(f"failed: {', '.join(sorted(set(self.failed)))}")
             return 1

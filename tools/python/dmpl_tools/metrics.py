@@ -32,6 +32,8 @@ def compute(data, config):
     if len(obj) == 0:
         return {"error": "the log has no object truth (DMPL_OBJECT_POSE_TRUE)"}
     t = obj.t
+    seqs = sorted(data.seq_to_t)
+    summary["log_missing_ticks"] = int(seqs[-1] - seqs[0] + 1 - len(seqs))
     releases = [seq for seq, cmd, _ in data.controls if cmd == sim_control_t.RELEASE]
     held_at_start = config.get("object", {}).get("held", True)
     t_release = data.time_of_seq(releases[0]) if releases else (None if held_at_start else t[0])

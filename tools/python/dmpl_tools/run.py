@@ -60,6 +60,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         problems.append("supervisor failed")
     if "supervisor_finished" in summary and not summary["supervisor_finished"]:
         problems.append("supervisor did not finish its tasks")
+    if summary.get("log_missing_ticks", 0) > 0:
+        problems.append(f"the log misses {summary['log_missing_ticks']} ticks")
     if "error" in summary:
         problems.append(summary["error"])
     summary["status"] = "timeout" if timed_out else ("failed" if problems else "success")

@@ -1,0 +1,116 @@
+"""dmpl_sim's lockstep protocol, driven by this test as the only participant: commands with the
+right seq advance the simulation; NaN and out-of-limit commands are rejected, counted and never
+reach the physics; a missing command is a fault reported with its seq, and too many end the run.
+Bad URDF and config files stop the process before it runs, naming the file and the problem."""
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import mp
+from dmpl import heartbeat_t, joint_cmd_t, joint_state_t, sim_status_t
+
+CONFIG = """
+run: {lockstep: true, lockstep_participants: [test_driver], tick_timeout_s: 0.3, max_tick_faults: 2}
+sim: {duration_s: 5.0}
+object: {position: [0.3, 0.5, 0.5], held: false}
+"""
+
+
+def write(text, suffix=".yaml"):
+    fd, path = tempfile.mkstemp(suffix=suffix)
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    return path
+
+
+class SimNodeTest(unittest.TestCase):
+    def test_lockstep_commands_rejections_and_faults(self):
+        bus = mp.Bus()
+        bus.listen("DMPL_HAND_STATE_TRUE", joint_state_t)
+        bus.listen("DMPL_SIM_STATUS", sim_status_t)
+        sim = subprocess.Popen([os.path.join(os.environ["DMPL_BUILD_DIR"], "bin", "dmpl_sim"),
+                                "--config", write(CONFIG)], cwd=mp.ROOT)
+        try:
+            hb = heartbeat_t()
+            hb.process, hb.pid, hb.state = "test_driver", os.getpid(), heartbeat_t.RUNNING
+            bus.wait_for(lambda: (bus.publish("DMPL_HEARTBEAT", hb) or True) and
+                         bus.received.get("DMPL_HAND_STATE_TRUE"), 10, "tick 0")
+            states = bus.received["DMPL_HAND_STATE_TRUE"]
+            names = list(states[0].name)
+            q0 = list(states[0].position)
+
+            def answer(k, q):
+                cmd = joint_cmd_t()
+                cmd.seq, cmd.num_joints, cmd.name, cmd.position = k, len(names), names, q
+                bus.publish("DMPL_JOINT_CMD", cmd)
+                bus.wait_for(lambda: len(states) > k + 1, 5, f"tick {k + 1}")
+                self.assertEqual(states[k + 1].seq, k + 1)
+
+            # A stale command (wrong seq) does not step.
+            stale = joint_cmd_t()
+            stale.seq, stale.num_joints, stale.name, stale.position = 7, len(names), names, q0
+            bus.publish("DMPL_JOINT_CMD", stale)
+            bus.spin(0.1)
+            self.assertEqual(len(states), 1)
+            for k in range(5):
+                answer(k, q0)
+            bent = list(q0)
+            bent[names.index("M_j1")] = 1.0
+            bad_nan = list(bent)
+            bad_nan[names.index("F_j2")] = math.nan
+            answer(5, bad_nan)                   # rejected: the previous targets stay
+            bad_limit = list(bent)
+            bad_limit[names.index("M_j1")] = 9.0
+            answer(6, bad_limit)                 # rejected
+            for k in range(7, 60):
+                answer(k, q0)
+            m1 = names.index("M_j1")
+            self.assertTrue(all(abs(s.position[m1] - q0[m1]) < 0.01 for s in states),
+                            "a rejected command reached the physics")
+            bus.wait_for(lambda: any(s.rejected_commands == 2 for s in
+                                     bus.received.get("DMPL_SIM_STATUS", [])), 5,
+                         "2 rejected commands reported")
+            # Stop answering: faults with the seq, then the simulator gives up (exit 4).
+            code = sim.wait(timeout=10)
+            self.assertEqual(code, 4)
+            bus.spin(0.1)
+            faults = [s for s in bus.received["DMPL_SIM_STATUS"] if s.faults > 0]
+            self.assertTrue(faults)
+            self.assertIn("no JOINT_CMD for seq 60", faults[-1].last_fault)
+        finally:
+            if sim.poll() is None:
+                sim.kill()
+
+    def check_error(self, config_text, expected, urdf=None):
+        if urdf is not None:
+            config_text += f"hand: {{urdf: {write(urdf, '.urdf')}}}\n"
+        path = write(config_text)
+        r = subprocess.run([os.path.join(os.environ["DMPL_BUILD_DIR"], "bin", "dmpl_sim"),
+                            "--config", path], capture_output=True, text=True, timeout=30)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(expected, r.stderr)
+        return r.stderr
+
+    def test_bad_configs_and_urdfs(self):
+        err = self.check_error("sim: {durration_s: 3}\n", "unknown key 'sim.durration_s'")
+        self.assertIn(".yaml", err)  # names the file
+        self.check_error("object: {mass: 0}\n", "key 'object.mass': must be > 0")
+        self.check_error("object: {shape: torus}\n", "unknown shape 'torus'")
+        self.check_error("sim: {servo: {kp: [1, 2]}}\n", "kp and kd")
+        self.check_error("hand: {urdf: /nonexistent.urdf}\n", "does not exist")
+        link = ('<link name="{0}"><inertial><mass value="{1}"/><inertia ixx="1e-5" iyy="1e-5" '
+                'izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>')
+        robot = ('<?xml version="1.0"?><robot name="r">' + link.format("palm", 1) +
+                 link.format("T_tip", "{mass}") + '<joint name="j" type="{type}"><parent '
+                 'link="palm"/><child link="T_tip"/><axis xyz="0 0 1"/><limit lower="-1" '
+                 'upper="1" effort="1" velocity="1"/></joint></robot>')
+        self.check_error("", "joint 'j' is floating", robot.format(mass=1, type="floating"))
+        self.check_error("", "non-positive mass", robot.format(mass=-1, type="revolute"))
+
+
+if __name__ == "__main__":
+    sys.exit(unittest.main())
