@@ -1,0 +1,64 @@
+// dmpl_bench_sim: wall time of one simulation step of the hand holding an object.
+// usage: dmpl_bench_sim --config configs/bench/sim_hold.yaml [--warmup N] [--steps N]
+// Prints one JSON object: median/p90 step time in microseconds and the state of the grasp.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "components/runtime/clock.h"
+#include "components/runtime/config.h"
+#include "sim_process/joint_player/joint_trajectory.h"
+#include "sim_process/sim/hand_sim.h"
+
+int main(int argc, char** argv) {
+  std::string config_file;
+  int warmup = 500, steps = 3000;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string arg = argv[i];
+    if (arg == "--config") config_file = argv[i + 1];
+    else if (arg == "--warmup") warmup = std::stoi(argv[i + 1]);
+    else if (arg == "--steps") steps = std::stoi(argv[i + 1]);
+    else {
+      std::fprintf(stderr, "dmpl_bench_sim: unknown option %s\n", arg.c_str());
+      return 2;
+    }
+  }
+  try {
+    const dmpl::Config config = dmpl::Config::Resolve(config_file, {}, {});
+    dmpl::HandParams hand_params;
+    dmpl::SimParams sim_params;
+    dmpl::ObjectParams object;
+    dmpl::JointPlayerParams player;
+    config.Load("hand", &hand_params);
+    config.Load("sim", &sim_params);
+    config.Load("object", &object);
+    config.Load("joint_player", &player);
+    const dmpl::HandModel model = dmpl::HandModel::Load(hand_params);
+    dmpl::HandSim sim(model, sim_params, object);
+    const dmpl::JointTrajectory trajectory(model, player.waypoints, config.source());
+    std::string why;
+    if (!sim.SetJointTargets(trajectory.At(0.0), &why)) throw dmpl::ConfigError(why);
+    if (object.held) sim.ReleaseObject();
+    for (int i = 0; i < warmup; ++i) sim.Step();
+    const Eigen::Vector3d start = sim.object().pose.translation();
+    std::vector<double> us(steps);
+    for (int i = 0; i < steps; ++i) {
+      const double t0 = dmpl::MonotonicSeconds();
+      sim.Step();
+      us[i] = (dmpl::MonotonicSeconds() - t0) * 1e6;
+    }
+    std::sort(us.begin(), us.end());
+    int contacts = 0;
+    for (const auto& t : sim.tactile()) contacts += t.in_contact ? 1 : 0;
+    std::printf(
+        "{\"step_us_median\": %.3f, \"step_us_p90\": %.3f, \"steps\": %d, \"tips_in_contact\": %d, "
+        "\"object_moved_m\": %.6g}\n",
+        us[steps / 2], us[steps * 9 / 10], steps, contacts,
+        (sim.object().pose.translation() - start).norm());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dmpl_bench_sim: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
