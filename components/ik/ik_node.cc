@@ -1,0 +1,130 @@
+// dmpl_ik: Cartesian fingertip targets (DMPL_FINGER_TARGETS) -> joint command (DMPL_JOINT_CMD).
+// Lockstep: answers tick k once both the targets and the sensed hand state of tick k arrived.
+// Reads sections: run, hand, ik.
+#include <cmath>
+
+#include "components/ik/hand_ik.h"
+#include "components/runtime/channels.h"
+#include "components/runtime/clock.h"
+#include "components/runtime/lockstep.h"
+#include "components/runtime/node.h"
+#include "dmpl/finger_targets_t.hpp"
+#include "dmpl/heartbeat_t.hpp"
+#include "dmpl/ik_status_t.hpp"
+#include "dmpl/joint_cmd_t.hpp"
+#include "dmpl/joint_state_t.hpp"
+
+namespace dmpl {
+namespace {
+
+class IkNode : public Node {
+ public:
+  IkNode(const NodeContext& ctx, HandModel model, const IkParams& params)
+      : Node(ctx.name, ctx.lcm),
+        lockstep_(ctx.run.lockstep),
+        model_(std::move(model)),
+        kin_(model_),
+        ik_(kin_, params),
+        gate_({{"targets", 0, 0}, {"hand_state", 0, 0}}) {
+    cmd_.name = model_.actuated_names();
+    cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
+    status_.num_fingers = static_cast<int8_t>(kin_.num_fingers());
+    status_.fingers.resize(kin_.num_fingers());
+    for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
+    lcm().subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
+    lcm().subscribe(channels::kHandState, &IkNode::OnHandState, this);
+  }
+
+ private:
+  void OnHandState(const lcm::ReceiveBuffer*, const std::string&, const joint_state_t* m) {
+    if (m->num_joints != kin_.num_joints() || static_cast<int>(m->position.size()) != m->num_joints) {
+      Reject("hand state with " + std::to_string(m->num_joints) + " joints");
+      return;
+    }
+    for (double q : m->position) {
+      if (!std::isfinite(q)) {
+        Reject("hand state with NaN");
+        return;
+      }
+    }
+    hand_ = *m;
+    if (lockstep_) {
+      if (auto tick = gate_.Arrive(1, m->seq)) Solve(*tick);
+    }
+  }
+
+  void OnTargets(const lcm::ReceiveBuffer*, const std::string&, const finger_targets_t* m) {
+    targets_ = *m;
+    if (lockstep_) {
+      if (auto tick = gate_.Arrive(0, m->seq)) Solve(*tick);
+    } else if (hand_.num_joints > 0) {
+      Solve(m->seq);
+    }
+  }
+
+  void Reject(const std::string& why) {
+    ++rejected_;
+    if (rejected_ <= 5 || rejected_ % 1000 == 0) log().warn("rejected input: {} ({} so far)", why, rejected_);
+    set_status(heartbeat_t::RUNNING, "rejected " + std::to_string(rejected_) + ": " + why);
+  }
+
+  void Solve(int64_t tick) {
+    const double t0 = MonotonicSeconds();
+    std::vector<std::optional<Eigen::Vector3d>> targets(kin_.num_fingers());
+    for (const auto& t : targets_.fingers) {
+      const int f = kin_.FindFinger(t.finger);
+      if (f < 0) {
+        Reject("target for unknown finger '" + t.finger + "'");
+        continue;
+      }
+      if (t.mode == finger_target_t::POSITION) {
+        targets[f] = Eigen::Vector3d(t.position[0], t.position[1], t.position[2]);
+      }
+    }
+    const std::vector<double>& q = ik_.Step(hand_.position, targets);
+    cmd_.utime = hand_.utime;
+    cmd_.seq = tick;
+    cmd_.position = q;
+    status_.utime = hand_.utime;
+    status_.seq = tick;
+    status_.solve_us = (MonotonicSeconds() - t0) * 1e6;
+    for (int f = 0; f < kin_.num_fingers(); ++f) {
+      const FingerIkReport& r = ik_.reports()[f];
+      status_.fingers[f].status = static_cast<int8_t>(r.status);
+      status_.fingers[f].residual_m = r.residual_m;
+      status_.fingers[f].iterations = static_cast<int16_t>(r.iterations);
+      if (r.status == IkStatus::kRejected) Reject("NaN target for finger " + kin_.finger(f).name());
+    }
+    // The status first: whoever waits for the command can then also read the status.
+    lcm().publish(channels::kIkStatus, &status_);
+    lcm().publish(channels::kJointCmd, &cmd_);
+    set_tick(tick);
+  }
+
+  bool lockstep_;
+  HandModel model_;
+  HandKinematics kin_;
+  HandIk ik_;
+  LockstepGate gate_;
+  joint_state_t hand_{};
+  finger_targets_t targets_{};
+  joint_cmd_t cmd_{};
+  ik_status_t status_{};
+  int64_t rejected_ = 0;
+};
+
+}  // namespace
+}  // namespace dmpl
+
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(
+      argc, argv, "dmpl_ik", "Reads sections: run, hand, ik.",
+      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
+        dmpl::HandParams hand;
+        dmpl::IkParams ik;
+        ctx.config.Load("hand", &hand);
+        ctx.config.Load("ik", &ik);
+        ik.Validate(ctx.config.source());
+        return std::make_unique<dmpl::IkNode>(ctx, dmpl::HandModel::Load(hand), ik);
+      });
+}

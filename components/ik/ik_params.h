@@ -1,0 +1,27 @@
+#pragma once
+#include "components/runtime/params.h"
+
+namespace dmpl {
+
+// Section `ik`.
+struct IkParams {
+  double tolerance_m = 1e-4;          // converged when the tip is this close to its target
+  int max_iterations = 30;            // per finger and tick (warm started from the last command)
+  double damping_m = 2e-3;            // DLS damping (lambda, in metres of tip motion)
+  double nullspace_gain = 0.02;       // pulls the redundant joint toward mid-range
+  double max_joint_step_rad = 0.01;   // per tick: the command never jumps
+  int restarts = 2;                   // extra seeds (mid-range) when a solve does not converge
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(tolerance_m));
+    a->Visit(DMPL_NVP(max_iterations));
+    a->Visit(DMPL_NVP(damping_m));
+    a->Visit(DMPL_NVP(nullspace_gain));
+    a->Visit(DMPL_NVP(max_joint_step_rad));
+    a->Visit(DMPL_NVP(restarts));
+  }
+  void Validate(const std::string& source) const;
+};
+
+}  // namespace dmpl

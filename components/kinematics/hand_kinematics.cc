@@ -1,0 +1,77 @@
+#include "components/kinematics/hand_kinematics.h"
+
+#include <kdl/tree.hpp>
+
+#include "components/kinematics/urdf_to_kdl.h"
+#include "components/runtime/check.h"
+
+namespace dmpl {
+
+FingerKinematics::FingerKinematics(std::string name, const KDL::Chain& chain,
+                                   Eigen::VectorXd lower, Eigen::VectorXd upper)
+    : name_(std::move(name)),
+      chain_(std::make_unique<KDL::Chain>(chain)),
+      lower_(std::move(lower)),
+      upper_(std::move(upper)),
+      fk_(std::make_unique<KDL::ChainFkSolverPos_recursive>(*chain_)),
+      jac_(std::make_unique<KDL::ChainJntToJacSolver>(*chain_)),
+      q_kdl_(chain_->getNrOfJoints()),
+      jac_kdl_(chain_->getNrOfJoints()) {
+  DMPL_DEMAND(static_cast<int>(chain_->getNrOfJoints()) == lower_.size());
+}
+
+Eigen::Vector3d FingerKinematics::TipPosition(const Eigen::VectorXd& q) const {
+  q_kdl_.data = q;
+  KDL::Frame frame;
+  DMPL_DEMAND(fk_->JntToCart(q_kdl_, frame) >= 0);
+  return Eigen::Vector3d(frame.p.x(), frame.p.y(), frame.p.z());
+}
+
+void FingerKinematics::TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip,
+                                   Eigen::Matrix3Xd* jac) const {
+  q_kdl_.data = q;
+  KDL::Frame frame;
+  DMPL_DEMAND(fk_->JntToCart(q_kdl_, frame) >= 0);
+  *tip = Eigen::Vector3d(frame.p.x(), frame.p.y(), frame.p.z());
+  // KDL's Jacobian is referenced to the chain's tip: its linear rows are the tip velocity.
+  DMPL_DEMAND(jac_->JntToJac(q_kdl_, jac_kdl_) >= 0);
+  *jac = jac_kdl_.data.topRows<3>();
+}
+
+HandKinematics::HandKinematics(const HandModel& model) {
+  const KDL::Tree tree = UrdfToKdlTree(model);
+  const std::string& root = model.links()[0].name;
+  for (const FingerInfo& f : model.fingers()) {
+    KDL::Chain chain;
+    DMPL_DEMAND(tree.getChain(root, model.links()[f.tip_link].name, chain));
+    const int n = static_cast<int>(f.joints.size());
+    Eigen::VectorXd lower(n), upper(n);
+    for (int k = 0; k < n; ++k) {
+      lower[k] = model.actuated_joint(f.joints[k]).lower;
+      upper[k] = model.actuated_joint(f.joints[k]).upper;
+    }
+    fingers_.emplace_back(f.name, chain, lower, upper);
+    joint_indices_.push_back(f.joints);
+  }
+  num_joints_ = model.num_actuated();
+}
+
+Eigen::VectorXd HandKinematics::FingerJoints(int f, const std::vector<double>& q) const {
+  const auto& idx = joint_indices_[f];
+  Eigen::VectorXd out(idx.size());
+  for (size_t k = 0; k < idx.size(); ++k) out[k] = q[idx[k]];
+  return out;
+}
+
+Eigen::Vector3d HandKinematics::TipPosition(int f, const std::vector<double>& q) const {
+  return fingers_[f].TipPosition(FingerJoints(f, q));
+}
+
+int HandKinematics::FindFinger(const std::string& name) const {
+  for (int f = 0; f < num_fingers(); ++f) {
+    if (fingers_[f].name() == name) return f;
+  }
+  return -1;
+}
+
+}  // namespace dmpl

@@ -1,0 +1,60 @@
+#pragma once
+// Forward kinematics and Jacobians of each finger: a KDL chain from the palm to the fingertip
+// centre, with the URDF joint limits beside it. Pure: no LCM, no simulator.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <kdl/chain.hpp>
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/chainjnttojacsolver.hpp>
+
+#include "components/hand/hand_model.h"
+
+namespace dmpl {
+
+class FingerKinematics {
+ public:
+  FingerKinematics(std::string name, const KDL::Chain& chain, Eigen::VectorXd lower,
+                   Eigen::VectorXd upper);
+  const std::string& name() const { return name_; }
+  int num_joints() const { return static_cast<int>(lower_.size()); }
+  const Eigen::VectorXd& lower() const { return lower_; }
+  const Eigen::VectorXd& upper() const { return upper_; }
+
+  // Fingertip centre in the palm frame.
+  Eigen::Vector3d TipPosition(const Eigen::VectorXd& q) const;
+  // Tip position and its 3 x n position Jacobian.
+  void TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Matrix3Xd* jac) const;
+
+ private:
+  std::string name_;
+  std::unique_ptr<KDL::Chain> chain_;  // on the heap: KDL's solvers keep a reference to it
+  Eigen::VectorXd lower_, upper_;
+  std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;
+  std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
+  mutable KDL::JntArray q_kdl_;
+  mutable KDL::Jacobian jac_kdl_;
+};
+
+class HandKinematics {
+ public:
+  explicit HandKinematics(const HandModel& model);
+  int num_fingers() const { return static_cast<int>(fingers_.size()); }
+  const FingerKinematics& finger(int f) const { return fingers_[f]; }
+  // Indices of finger f's joints in the hand's joint vector.
+  const std::vector<int>& joint_indices(int f) const { return joint_indices_[f]; }
+  int num_joints() const { return num_joints_; }
+  // Finger f's part of the hand joint vector.
+  Eigen::VectorXd FingerJoints(int f, const std::vector<double>& q) const;
+  Eigen::Vector3d TipPosition(int f, const std::vector<double>& q) const;
+  int FindFinger(const std::string& name) const;
+
+ private:
+  std::vector<FingerKinematics> fingers_;
+  std::vector<std::vector<int>> joint_indices_;
+  int num_joints_ = 0;
+};
+
+}  // namespace dmpl

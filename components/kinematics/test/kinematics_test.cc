@@ -1,0 +1,70 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "components/kinematics/hand_kinematics.h"
+#include "components/kinematics/urdf_to_kdl.h"
+#include "sim_process/sim/hand_sim.h"
+
+namespace dmpl {
+namespace {
+
+HandModel LoadHand() {
+  HandParams p;
+  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
+  return HandModel::Load(p);
+}
+
+TEST(UrdfToKdlTest, TreeHasEverySegmentAndTheActuatedJoints) {
+  const HandModel model = LoadHand();
+  const KDL::Tree tree = UrdfToKdlTree(model);
+  EXPECT_EQ(tree.getNrOfSegments(), model.links().size() - 1);
+  EXPECT_EQ(tree.getNrOfJoints(), 16u);
+}
+
+TEST(HandKinematicsTest, ForwardKinematicsAgreesWithTheSimulatorWithin0_1mm) {
+  const HandModel model = LoadHand();
+  const HandKinematics kin(model);
+  ObjectParams object;
+  object.position = {0.5, 0.5, 0.5};  // out of the way
+  HandSim sim(model, SimParams{}, object);
+  std::mt19937 rng(7);
+  double worst = 0.0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<double> q(model.num_actuated());
+    for (int a = 0; a < model.num_actuated(); ++a) {
+      const JointInfo& j = model.actuated_joint(a);
+      q[a] = std::uniform_real_distribution<double>(j.lower, j.upper)(rng);
+    }
+    sim.SetJointPositions(q);
+    for (int f = 0; f < kin.num_fingers(); ++f) {
+      worst = std::max(worst, (kin.TipPosition(f, q) - sim.TipPosition(f)).norm());
+    }
+  }
+  EXPECT_LT(worst, 1e-4);
+}
+
+TEST(HandKinematicsTest, JacobianMatchesFiniteDifferences) {
+  const HandModel model = LoadHand();
+  const HandKinematics kin(model);
+  std::mt19937 rng(3);
+  for (int f = 0; f < kin.num_fingers(); ++f) {
+    const FingerKinematics& finger = kin.finger(f);
+    Eigen::VectorXd q(finger.num_joints());
+    for (int k = 0; k < q.size(); ++k) {
+      q[k] = std::uniform_real_distribution<double>(finger.lower()[k], finger.upper()[k])(rng);
+    }
+    Eigen::Vector3d tip;
+    Eigen::Matrix3Xd jac;
+    finger.TipJacobian(q, &tip, &jac);
+    for (int k = 0; k < q.size(); ++k) {
+      Eigen::VectorXd dq = q;
+      dq[k] += 1e-7;
+      const Eigen::Vector3d numeric = (finger.TipPosition(dq) - tip) / 1e-7;
+      EXPECT_LT((numeric - jac.col(k)).norm(), 1e-5) << finger.name() << " joint " << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dmpl
