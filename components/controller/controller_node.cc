@@ -1,0 +1,220 @@
+// dmpl_controller: the local manipulation controller on LCM. Reads sections: run, hand, controller.
+// In: DMPL_HAND_STATE, DMPL_TACTILE, DMPL_OBJECT_POSE (sensed), DMPL_TASK.
+// Out: DMPL_FINGER_TARGETS, DMPL_CONTROLLER_STATUS (with events).
+// Lockstep: tick k runs when the sensed data of tick k and (controller.wait_for_task) the task
+// that answers tick k-1 have arrived, so a task takes effect at a defined tick.
+#include "components/controller/manipulation_controller.h"
+#include "components/runtime/channels.h"
+#include "components/runtime/lockstep.h"
+#include "components/runtime/node.h"
+#include "dmpl/controller_status_t.hpp"
+#include "dmpl/finger_targets_t.hpp"
+#include "dmpl/heartbeat_t.hpp"
+#include "dmpl/joint_state_t.hpp"
+#include "dmpl/object_pose_t.hpp"
+#include "dmpl/tactile_t.hpp"
+#include "dmpl/task_cmd_t.hpp"
+
+namespace dmpl {
+namespace {
+
+Eigen::Isometry3d PoseFrom(const double p[3], const double q[4]) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  t.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  return t;
+}
+
+void PoseTo(const Eigen::Isometry3d& t, double p[3], double q[4]) {
+  const Eigen::Quaterniond qq(t.linear());
+  for (int i = 0; i < 3; ++i) p[i] = t.translation()[i];
+  q[0] = qq.w();
+  q[1] = qq.x();
+  q[2] = qq.y();
+  q[3] = qq.z();
+}
+
+class ControllerNode : public Node {
+ public:
+  ControllerNode(const NodeContext& ctx, HandModel model, const ControllerParams& params)
+      : Node(ctx.name, ctx.lcm),
+        lockstep_(ctx.run.lockstep),
+        wait_for_task_(params.wait_for_task),
+        model_(std::move(model)),
+        kin_(model_),
+        core_(kin_, params, 0.001),
+        gate_(MakeGate(params.wait_for_task)) {
+    const int nf = kin_.num_fingers();
+    task_.fingers.resize(nf);
+    sensed_.tips.resize(nf);
+    targets_.num_fingers = static_cast<int8_t>(nf);
+    targets_.fingers.resize(nf);
+    status_.num_fingers = static_cast<int8_t>(nf);
+    status_.fingers.resize(nf);
+    for (int f = 0; f < nf; ++f) {
+      targets_.fingers[f].finger = kin_.finger(f).name();
+      status_.fingers[f].finger = kin_.finger(f).name();
+    }
+    lcm().subscribe(channels::kHandState, &ControllerNode::OnHandState, this);
+    lcm().subscribe(channels::kTactile, &ControllerNode::OnTactile, this);
+    lcm().subscribe(channels::kObjectPose, &ControllerNode::OnObject, this);
+    lcm().subscribe(channels::kTask, &ControllerNode::OnTask, this);
+  }
+
+ private:
+  enum Input : size_t { kHand = 0, kTactileIn = 1, kObject = 2, kTaskIn = 3 };
+
+  static LockstepGate MakeGate(bool wait_for_task) {
+    std::vector<LockstepGate::Input> inputs = {{"hand_state", 0, 0}, {"tactile", 0, 0},
+                                               {"object_pose", 0, 0}};
+    if (wait_for_task) inputs.push_back({"task", -1, 1});
+    return LockstepGate(inputs);
+  }
+
+  void Arrived(Input input, int64_t seq) {
+    if (!lockstep_) {
+      // Real time: run on every sensed joint state with the latest of everything else.
+      if (input == kHand) Tick(seq);
+      return;
+    }
+    if (input == kTaskIn && !wait_for_task_) return;  // the gate has no task input
+    if (auto tick = gate_.Arrive(input, seq)) Tick(*tick);
+  }
+
+  void OnHandState(const lcm::ReceiveBuffer*, const std::string&, const joint_state_t* m) {
+    sensed_.q = m->position;
+    sensed_.seq = m->seq;
+    sensed_.time_s = m->utime * 1e-6;
+    Arrived(kHand, m->seq);
+  }
+
+  void OnTactile(const lcm::ReceiveBuffer*, const std::string&, const tactile_t* m) {
+    for (const auto& t : m->fingers) {
+      const int f = kin_.FindFinger(t.finger);
+      if (f < 0) continue;
+      sensed_.tips[f] = {t.in_contact != 0, Eigen::Vector3d(t.position[0], t.position[1], t.position[2]),
+                         t.force_n};
+    }
+    Arrived(kTactileIn, m->seq);
+  }
+
+  void OnObject(const lcm::ReceiveBuffer*, const std::string&, const object_pose_t* m) {
+    sensed_.object_valid = m->valid;
+    sensed_.object = PoseFrom(m->position, m->orientation);
+    Arrived(kObject, m->seq);
+  }
+
+  void OnTask(const lcm::ReceiveBuffer*, const std::string&, const task_cmd_t* m) {
+    TaskInput t;
+    t.task_id = m->task_id;
+    t.name = m->name;
+    t.has_object_target = m->has_object_target;
+    t.object_target = PoseFrom(m->object_position, m->object_orientation);
+    t.max_linear_speed = m->max_linear_speed;
+    t.max_angular_speed = m->max_angular_speed;
+    t.fingers.resize(kin_.num_fingers());
+    for (const auto& fp : m->fingers) {
+      const int f = kin_.FindFinger(fp.finger);
+      if (f < 0) {
+        log().warn("task for unknown finger '{}' ignored", fp.finger);
+        continue;
+      }
+      FingerTask& ft = t.fingers[f];
+      ft.role = static_cast<Role>(fp.role);
+      ft.primitive = static_cast<Primitive>(fp.primitive);
+      ft.has_target = fp.has_target;
+      ft.target = Eigen::Vector3d(fp.target_position[0], fp.target_position[1], fp.target_position[2]);
+      ft.force_n = fp.force_n;
+    }
+    task_ = t;
+    if (m->task_id != last_task_id_) {
+      last_task_id_ = m->task_id;
+      log().info("task {} '{}'", m->task_id, m->name);
+    }
+    Arrived(kTaskIn, m->seq);
+  }
+
+  void Tick(int64_t tick) {
+    sensed_.seq = tick;
+    const ControllerOutput& out = core_.Step(sensed_, task_);
+    const int64_t utime = static_cast<int64_t>(sensed_.time_s * 1e6 + 0.5);
+    targets_.utime = utime;
+    targets_.seq = tick;
+    for (size_t f = 0; f < out.fingers.size(); ++f) {
+      finger_target_t& t = targets_.fingers[f];
+      t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;
+      for (int i = 0; i < 3; ++i) t.position[i] = out.fingers[f].target[i];
+    }
+    lcm().publish(channels::kFingerTargets, &targets_);
+
+    status_.utime = utime;
+    status_.seq = tick;
+    status_.task_id = out.task_id;
+    status_.motion_done = out.motion_done;
+    status_.grasp_stable = out.grasp_stable;
+    status_.tracking_error_rad = out.tracking_error_rad;
+    status_.tracking_error_m = out.tracking_error_m;
+    PoseTo(out.object_estimate, status_.object_position, status_.object_orientation);
+    for (int i = 0; i < 3; ++i) status_.contact_centroid[i] = out.contact_centroid[i];
+    for (size_t f = 0; f < out.fingers.size(); ++f) {
+      const FingerOutput& o = out.fingers[f];
+      finger_status_t& s = status_.fingers[f];
+      s.role = static_cast<int8_t>(o.role);
+      s.primitive = static_cast<int8_t>(o.primitive);
+      s.in_contact = o.in_contact;
+      s.force_n = o.force;
+      s.desired_force_n = o.desired_force;
+      for (int i = 0; i < 3; ++i) {
+        s.tip_position[i] = o.tip[i];
+        s.target_position[i] = o.target[i];
+        s.contact_position[i] = o.contact[i];
+      }
+    }
+    status_.events.clear();
+    for (const ControllerEvent& e : out.events) {
+      controller_event_t ev;
+      ev.type = static_cast<int8_t>(e.type);
+      ev.finger = e.finger >= 0 ? kin_.finger(e.finger).name() : "";
+      ev.value = e.value;
+      ev.text = e.text;
+      status_.events.push_back(ev);
+      if (e.type == EventType::kInputRejected) {
+        log().warn("tick {}: {}", tick, e.text);
+        set_status(heartbeat_t::RUNNING, e.text);
+      } else {
+        log().debug("tick {}: {}", tick, e.text);
+      }
+    }
+    status_.num_events = static_cast<int16_t>(status_.events.size());
+    lcm().publish(channels::kControllerStatus, &status_);
+    set_tick(tick);
+  }
+
+  bool lockstep_;
+  bool wait_for_task_;
+  HandModel model_;
+  HandKinematics kin_;
+  ManipulationController core_;
+  LockstepGate gate_;
+  SensedInput sensed_;
+  TaskInput task_;
+  int32_t last_task_id_ = -1;
+  finger_targets_t targets_{};
+  controller_status_t status_{};
+};
+
+}  // namespace
+}  // namespace dmpl
+
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(
+      argc, argv, "dmpl_controller", "Reads sections: run, hand, controller.",
+      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
+        dmpl::HandParams hand;
+        dmpl::ControllerParams params;
+        ctx.config.Load("hand", &hand);
+        ctx.config.Load("controller", &params);
+        params.Validate(ctx.config.source());
+        return std::make_unique<dmpl::ControllerNode>(ctx, dmpl::HandModel::Load(hand), params);
+      });
+}

@@ -1,0 +1,75 @@
+#pragma once
+#include "components/runtime/params.h"
+
+namespace dmpl {
+
+// PI on the force error along the contact direction; output is a tip displacement (m).
+struct ForceGains {
+  double kp = 0.001;              // m/N
+  double ki = 0.03;               // m/(N s)
+  double integral_limit = 0.015;  // m: anti-windup (the force term never pushes further than this)
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(kp));
+    a->Visit(DMPL_NVP(ki));
+    a->Visit(DMPL_NVP(integral_limit));
+  }
+};
+
+// Section `controller`. Gains are hand-set defaults; tools/dmpl calibrate can fit them.
+struct ControllerParams {
+  // Position planner (equations 1-2) and the object reference (Fig. 1).
+  double position_gain = 1.0;            // share of the object pose error corrected per tick
+  double max_linear_speed = 0.01;        // m/s of the object reference
+  double max_angular_speed = 0.25;       // rad/s of the object reference
+  double object_position_time_constant_s = 0.1;   // low-pass of the noisy object position
+  double object_orientation_time_constant_s = 0.005;
+  // Force planner.
+  double grip_force_n = 0.8;             // nominal normal force of a grip finger
+  double min_grip_force_n = 0.4;
+  double explore_force_n = 0.1;          // exploration finger (the paper's 0.1 N)
+  ForceGains force;
+  // Hybrid control (exploration): tangential motion toward the finger's target point.
+  double hybrid_tangential_gain = 2.0;   // 1/s
+  double hybrid_max_speed = 0.02;        // m/s
+  // Finger position control (approach without contact).
+  double approach_speed = 0.03;          // m/s
+  double target_tolerance_m = 0.002;
+  // Contacts and events.
+  double contact_threshold_n = 0.03;     // sensed force above which a fingertip touches
+  int contact_debounce_ticks = 5;        // a contact change must persist this long
+  double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
+  double motion_done_m = 0.004;
+  double tracking_error_rad = 0.15;      // TRACKING_ERROR event above this
+  double stable_force_tolerance = 0.35;  // |f - f*| < tol * f* for every grip finger...
+  double stable_hold_s = 0.15;           // ...this long: GRASP_STABLE
+  bool wait_for_task = true;             // lockstep: tick k waits for the supervisor's answer to k-1
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(position_gain));
+    a->Visit(DMPL_NVP(max_linear_speed));
+    a->Visit(DMPL_NVP(max_angular_speed));
+    a->Visit(DMPL_NVP(object_position_time_constant_s));
+    a->Visit(DMPL_NVP(object_orientation_time_constant_s));
+    a->Visit(DMPL_NVP(grip_force_n));
+    a->Visit(DMPL_NVP(min_grip_force_n));
+    a->Visit(DMPL_NVP(explore_force_n));
+    a->Visit(DMPL_NVP(force));
+    a->Visit(DMPL_NVP(hybrid_tangential_gain));
+    a->Visit(DMPL_NVP(hybrid_max_speed));
+    a->Visit(DMPL_NVP(approach_speed));
+    a->Visit(DMPL_NVP(target_tolerance_m));
+    a->Visit(DMPL_NVP(contact_threshold_n));
+    a->Visit(DMPL_NVP(contact_debounce_ticks));
+    a->Visit(DMPL_NVP(motion_done_rad));
+    a->Visit(DMPL_NVP(motion_done_m));
+    a->Visit(DMPL_NVP(tracking_error_rad));
+    a->Visit(DMPL_NVP(stable_force_tolerance));
+    a->Visit(DMPL_NVP(stable_hold_s));
+    a->Visit(DMPL_NVP(wait_for_task));
+  }
+  void Validate(const std::string& source) const;
+};
+
+}  // namespace dmpl

@@ -1,0 +1,51 @@
+#include "components/controller/force_planner.h"
+
+#include <algorithm>
+
+#include <Eigen/Dense>
+
+#include "components/runtime/check.h"
+
+namespace dmpl {
+
+ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
+                         const std::vector<bool>& grip, double nominal_n, double minimum_n) {
+  DMPL_DEMAND(contacts.size() == grip.size());
+  ForcePlan plan;
+  plan.forces.resize(contacts.size());
+  std::vector<int> idx;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    if (grip[i]) idx.push_back(static_cast<int>(i));
+  }
+  if (idx.empty()) return plan;
+  for (int i : idx) plan.centroid += contacts[i];
+  plan.centroid /= static_cast<double>(idx.size());
+  const int n = static_cast<int>(idx.size());
+  Eigen::Matrix3Xd u(3, n);
+  Eigen::VectorXd d(n);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d v = plan.centroid - contacts[idx[k]];
+    d[k] = v.norm();
+    u.col(k) = d[k] > 1e-9 ? Eigen::Vector3d(v / d[k]) : Eigen::Vector3d::Zero();
+  }
+  if (n < 2 || d.minCoeff() < 1e-6) {
+    for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), nominal_n};
+    return plan;
+  }
+  // Least squares: the smallest change to the nominal forces that zeroes the net force,
+  // f = f0 - U^T (U U^T)^+ U f0 (U may be rank-deficient: contacts in a plane or a line).
+  const Eigen::VectorXd f0 = Eigen::VectorXd::Constant(n, nominal_n);
+  const Eigen::Matrix3d uut = u * u.transpose();
+  const Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix3d> cod(uut);
+  Eigen::VectorXd f = f0 - u.transpose() * cod.solve(u * f0);
+  // Forces proportional to the distances to the centroid balance exactly (sum of centroid - p_i
+  // is zero), and are all positive: add as much of them as the minimum needs.
+  double alpha = 0.0;
+  for (int k = 0; k < n; ++k) alpha = std::max(alpha, (minimum_n - f[k]) / d[k]);
+  f += alpha * d;
+  for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), f[k]};
+  plan.balanced = true;
+  return plan;
+}
+
+}  // namespace dmpl

@@ -1,0 +1,28 @@
+#pragma once
+// The force planner of the paper (§II.B, Fig. 2): every grip force points from its contact toward
+// the centroid of the grip contacts, so the forces meet in one point and their net moment is zero;
+// the magnitudes make the net force zero and none falls below a minimum (least squares around the
+// nominal grip force). An exploration finger gets its own fixed small force and stays out of the
+// balance: the grip fingers treat its force as zero (the paper's premise).
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dmpl {
+
+struct PlannedForce {
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, into the object
+  double magnitude = 0.0;                               // N
+};
+
+struct ForcePlan {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::vector<PlannedForce> forces;  // one per given contact, same order
+  bool balanced = false;             // false when fewer than 2 grip contacts
+};
+
+// `contacts`: contact positions (palm frame); `grip`: which take part in the balance.
+ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
+                         const std::vector<bool>& grip, double nominal_n, double minimum_n);
+
+}  // namespace dmpl

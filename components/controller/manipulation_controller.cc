@@ -1,0 +1,361 @@
+#include "components/controller/manipulation_controller.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "components/controller/position_planner.h"
+#include "components/runtime/check.h"
+
+namespace dmpl {
+namespace {
+
+Eigen::Vector3d ClampNorm(const Eigen::Vector3d& v, double max_norm) {
+  const double n = v.norm();
+  return n > max_norm ? Eigen::Vector3d(v * (max_norm / n)) : v;
+}
+
+}  // namespace
+
+void ControllerParams::Validate(const std::string& source) const {
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw ConfigError("config error in " + source + ": key 'controller." + key + "': " + what);
+  };
+  if (position_gain < 0 || position_gain > 2) fail("position_gain", "must be in [0, 2]");
+  if (!(max_linear_speed > 0)) fail("max_linear_speed", "must be > 0");
+  if (!(max_angular_speed > 0)) fail("max_angular_speed", "must be > 0");
+  if (object_position_time_constant_s < 0) fail("object_position_time_constant_s", "must be >= 0");
+  if (object_orientation_time_constant_s < 0) {
+    fail("object_orientation_time_constant_s", "must be >= 0");
+  }
+  if (!(grip_force_n > 0)) fail("grip_force_n", "must be > 0");
+  if (min_grip_force_n < 0 || min_grip_force_n > grip_force_n) {
+    fail("min_grip_force_n", "must be in [0, grip_force_n]");
+  }
+  if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
+  if (force.kp < 0 || force.ki < 0 || !(force.integral_limit > 0)) {
+    fail("force", "kp, ki must be >= 0 and integral_limit > 0");
+  }
+  if (contact_debounce_ticks < 1) fail("contact_debounce_ticks", "must be >= 1");
+  if (!(approach_speed > 0) || !(hybrid_max_speed > 0)) fail("approach_speed", "speeds must be > 0");
+}
+
+ManipulationController::ManipulationController(const HandKinematics& kinematics,
+                                               const ControllerParams& params, double tick_s)
+    : kin_(kinematics),
+      params_(params),
+      dt_(tick_s),
+      fingers_(kinematics.num_fingers()) {
+  DMPL_DEMAND(tick_s > 0);
+  out_.fingers.resize(kinematics.num_fingers());
+  max_linear_ = params_.max_linear_speed;
+  max_angular_ = params_.max_angular_speed;
+}
+
+void ManipulationController::Emit(EventType type, int finger, double value, std::string text) {
+  out_.events.push_back({type, finger, value, std::move(text)});
+}
+
+bool ManipulationController::Validate(const SensedInput& in, std::string* why) const {
+  if (static_cast<int>(in.q.size()) != kin_.num_joints()) {
+    *why = "joint state with " + std::to_string(in.q.size()) + " joints";
+    return false;
+  }
+  if (static_cast<int>(in.tips.size()) != kin_.num_fingers()) {
+    *why = "tactile reading with " + std::to_string(in.tips.size()) + " fingers";
+    return false;
+  }
+  for (double q : in.q) {
+    if (!std::isfinite(q)) {
+      *why = "joint state with NaN";
+      return false;
+    }
+  }
+  for (const auto& t : in.tips) {
+    if (!t.position.allFinite() || !std::isfinite(t.force)) {
+      *why = "tactile reading with NaN";
+      return false;
+    }
+  }
+  if (in.object_valid && !in.object.matrix().allFinite()) {
+    *why = "object pose with NaN";
+    return false;
+  }
+  return true;
+}
+
+void ManipulationController::UpdateObjectEstimate(const SensedInput& in) {
+  if (!in.object_valid) return;  // dropped reading: keep the estimate
+  if (!has_estimate_) {
+    estimate_ = in.object;
+    has_estimate_ = true;
+    return;
+  }
+  // First-order low-pass: the paper's 0.5 cm noise would otherwise shake every finger by 5 mm.
+  const double ap = dt_ / (params_.object_position_time_constant_s + dt_);
+  const double ao = dt_ / (params_.object_orientation_time_constant_s + dt_);
+  estimate_.translation() += ap * (in.object.translation() - estimate_.translation());
+  const Eigen::Quaterniond q0(estimate_.linear()), q1(in.object.linear());
+  estimate_.linear() = q0.slerp(ao, q1).normalized().toRotationMatrix();
+}
+
+void ManipulationController::UpdateContacts(const SensedInput& in) {
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    FingerState& s = fingers_[f];
+    const bool raw = in.tips[f].in_contact && in.tips[f].force > params_.contact_threshold_n;
+    if (raw == s.contact) {
+      s.contact_count = 0;
+      continue;
+    }
+    if (++s.contact_count < params_.contact_debounce_ticks) continue;
+    s.contact = raw;
+    s.contact_count = 0;
+    if (raw) {
+      Emit(EventType::kContactMade, f, in.tips[f].force, kin_.finger(f).name() + " touches");
+    } else {
+      Emit(EventType::kContactLost, f, static_cast<double>(s.task.role),
+           kin_.finger(f).name() + (s.task.role == Role::kGrip ? " lost its grip contact"
+                                                               : " left the surface"));
+    }
+  }
+}
+
+void ManipulationController::ApplyTask(const TaskInput& task,
+                                       const std::vector<Eigen::Vector3d>& tips) {
+  const bool new_task = task.task_id != task_id_;
+  if (new_task) {
+    task_id_ = task.task_id;
+    motion_done_sent_ = false;
+    tracking_error_sent_ = false;
+  }
+  if (task.has_object_target) {
+    if (!has_goal_ || !goal_.isApprox(task.object_target)) motion_done_sent_ = false;
+    has_goal_ = true;
+    goal_ = task.object_target;
+  } else {
+    has_goal_ = false;
+    has_reference_ = false;
+  }
+  max_linear_ = task.max_linear_speed > 0 ? task.max_linear_speed : params_.max_linear_speed;
+  max_angular_ = task.max_angular_speed > 0 ? task.max_angular_speed : params_.max_angular_speed;
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    FingerState& s = fingers_[f];
+    const FingerTask next = f < static_cast<int>(task.fingers.size()) ? task.fingers[f] : FingerTask{};
+    const bool primitive_changed = next.primitive != s.task.primitive;
+    if (primitive_changed || next.role != s.task.role ||
+        (next.has_target && (!s.task.has_target || !next.target.isApprox(s.task.target)))) {
+      s.reached = false;
+    }
+    if (primitive_changed) {
+      if (next.primitive == Primitive::kPosition || next.primitive == Primitive::kHold) {
+        s.integral = 0.0;
+        // Start the finger's own trajectory where its tip is.
+        s.target = tips[f];
+        s.has_target = true;
+      }
+    }
+    s.task = next;
+  }
+}
+
+double ManipulationController::ForceTerm(FingerState* s, double desired, double measured) {
+  const ForceGains& g = params_.force;
+  const double e = desired - measured;
+  s->integral = std::clamp(s->integral + g.ki * e * dt_, -g.integral_limit, g.integral_limit);
+  return std::clamp(g.kp * e + s->integral, -g.integral_limit, g.integral_limit);
+}
+
+const ControllerOutput& ManipulationController::Step(const SensedInput& in, const TaskInput& task) {
+  out_.events.clear();
+  out_.seq = in.seq;
+  std::string why;
+  if (!Validate(in, &why)) {
+    Emit(EventType::kInputRejected, -1, 0.0, why + "; holding the last targets");
+    return out_;
+  }
+  // The tick length from the sensed clock (the simulator's, in lockstep), else the nominal one.
+  if (last_time_ >= 0 && in.time_s > last_time_ && in.time_s - last_time_ < 0.1) {
+    dt_ = in.time_s - last_time_;
+  }
+  last_time_ = in.time_s;
+  const int nf = kin_.num_fingers();
+  std::vector<Eigen::Vector3d> tips(nf);
+  for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, in.q);
+  for (int f = 0; f < nf; ++f) {
+    if (!fingers_[f].has_target) {
+      fingers_[f].target = tips[f];
+      fingers_[f].has_target = true;
+    }
+  }
+  UpdateContacts(in);
+  UpdateObjectEstimate(in);
+  ApplyTask(task, tips);
+  out_.task_id = task_id_;
+
+  // The object reference: small steps of bounded speed toward the goal (Fig. 1).
+  if (has_goal_ && has_estimate_) {
+    if (!has_reference_) {
+      reference_ = estimate_;
+      has_reference_ = true;
+    }
+    reference_ = StepToward(reference_, goal_, max_linear_ * dt_, max_angular_ * dt_);
+  }
+  const bool moving = has_goal_ && has_reference_;
+  out_.tracking_error_rad = moving ? AngleBetween(estimate_.linear(), reference_.linear()) : 0.0;
+  out_.tracking_error_m =
+      moving ? (estimate_.translation() - reference_.translation()).norm() : 0.0;
+
+  // The force plan over the grip fingers that touch the object.
+  std::vector<Eigen::Vector3d> contacts(nf);
+  std::vector<bool> in_grip(nf, false);
+  for (int f = 0; f < nf; ++f) {
+    contacts[f] = in.tips[f].in_contact ? in.tips[f].position : tips[f];
+    in_grip[f] = fingers_[f].task.role == Role::kGrip &&
+                 fingers_[f].task.primitive == Primitive::kComposite && fingers_[f].contact;
+  }
+  const ForcePlan plan =
+      PlanGripForces(contacts, in_grip, params_.grip_force_n, params_.min_grip_force_n);
+  // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
+  const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
+  const Eigen::Vector3d centre =
+      grip_contacts >= 2 ? plan.centroid
+                         : (has_estimate_ ? Eigen::Vector3d(estimate_.translation()) : Eigen::Vector3d::Zero());
+  out_.contact_centroid = centre;
+
+  // The position planner: where each tip goes if it moves rigidly with the object (eq. 1-2).
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  if (moving) motion = ObjectMotion(estimate_, reference_);
+
+  for (int f = 0; f < nf; ++f) {
+    FingerState& s = fingers_[f];
+    FingerOutput& o = out_.fingers[f];
+    o.role = s.task.role;
+    o.primitive = s.task.primitive;
+    o.tip = tips[f];
+    o.in_contact = s.contact;
+    o.force = in.tips[f].force;
+    o.contact = in.tips[f].position;
+    o.desired_force = 0.0;
+    o.track = true;
+    switch (s.task.primitive) {
+      case Primitive::kHold:
+        break;
+      case Primitive::kPosition: {
+        if (s.task.has_target) {
+          s.target += ClampNorm(s.task.target - s.target, params_.approach_speed * dt_);
+          if (!s.reached && (tips[f] - s.task.target).norm() < params_.target_tolerance_m) {
+            s.reached = true;
+            Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
+          }
+        }
+        break;
+      }
+      case Primitive::kComposite: {
+        // Position: P on the displacement the object's motion asks of this contact.
+        Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+        if (moving && s.task.role == Role::kGrip) {
+          displacement =
+              params_.position_gain * (MoveWithObject(estimate_, motion, tips[f]) - tips[f]);
+        }
+        // Force: PI along the planned direction (toward the grip centroid).
+        Eigen::Vector3d direction = plan.forces[f].direction;
+        double desired = plan.forces[f].magnitude;
+        if (!in_grip[f]) {
+          // Not (yet) part of the balance: push toward the object to (re)gain contact.
+          direction = centre - contacts[f];
+          desired = s.task.role == Role::kGrip ? params_.grip_force_n : params_.explore_force_n;
+        }
+        if (s.task.force_n > 0) desired = s.task.force_n;
+        if (direction.norm() < 1e-9) direction = s.last_direction;
+        direction.normalize();
+        if (!direction.allFinite()) direction.setZero();
+        s.last_direction = direction;
+        s.target = tips[f] + displacement + direction * ForceTerm(&s, desired, in.tips[f].force);
+        o.desired_force = desired;
+        break;
+      }
+      case Primitive::kHybrid: {
+        // The normal into the object: from the tip centre through the contact point; without
+        // contact, toward the object.
+        Eigen::Vector3d normal = s.contact ? Eigen::Vector3d(in.tips[f].position - tips[f])
+                                           : Eigen::Vector3d(centre - tips[f]);
+        if (normal.norm() < 1e-9) normal = s.last_direction;
+        normal.normalize();
+        if (!normal.allFinite()) normal.setZero();
+        s.last_direction = normal;
+        Eigen::Vector3d tangential = Eigen::Vector3d::Zero();
+        if (s.task.has_target) {
+          const Eigen::Vector3d to_goal = s.task.target - tips[f];
+          const Eigen::Vector3d in_plane = to_goal - to_goal.dot(normal) * normal;
+          tangential = ClampNorm(params_.hybrid_tangential_gain * dt_ * in_plane,
+                                 params_.hybrid_max_speed * dt_);
+          if (!s.reached && in_plane.norm() < params_.target_tolerance_m) {
+            s.reached = true;
+            Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
+          }
+        }
+        const double desired = s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n;
+        s.target = tips[f] + tangential + normal * ForceTerm(&s, desired, in.tips[f].force);
+        o.desired_force = desired;
+        break;
+      }
+    }
+    o.target = s.target;
+  }
+
+  // Events about the grasp and the motion.
+  int grip_assigned = 0;
+  bool stable = true;
+  for (int f = 0; f < nf; ++f) {
+    const FingerState& s = fingers_[f];
+    if (s.task.role != Role::kGrip || s.task.primitive != Primitive::kComposite) continue;
+    ++grip_assigned;
+    const FingerOutput& o = out_.fingers[f];
+    if (!s.contact ||
+        std::abs(o.force - o.desired_force) > params_.stable_force_tolerance * o.desired_force) {
+      stable = false;
+    }
+  }
+  stable = stable && grip_assigned >= 2;
+  if (stable) {
+    if (stable_since_ < 0) stable_since_ = in.time_s;
+    if (!stable_sent_ && in.time_s - stable_since_ >= params_.stable_hold_s) {
+      stable_sent_ = true;
+      Emit(EventType::kGraspStable, -1, in.time_s - stable_since_, "grasp stable");
+    }
+  } else {
+    stable_since_ = -1.0;
+    stable_sent_ = false;
+  }
+  out_.grasp_stable = stable_sent_;
+  if (grip_assigned >= 2 && grip_contacts < 2) {
+    if (!grasp_lost_sent_) {
+      grasp_lost_sent_ = true;
+      Emit(EventType::kGraspLost, -1, grip_contacts, "fewer than two grip contacts");
+    }
+  } else if (grip_contacts >= 2) {
+    grasp_lost_sent_ = false;
+  }
+  if (moving) {
+    if (out_.tracking_error_rad > params_.tracking_error_rad && !tracking_error_sent_) {
+      tracking_error_sent_ = true;
+      Emit(EventType::kTrackingError, -1, out_.tracking_error_rad, "object lags its reference");
+    } else if (out_.tracking_error_rad < 0.5 * params_.tracking_error_rad) {
+      tracking_error_sent_ = false;
+    }
+    const bool reference_at_goal = AngleBetween(reference_.linear(), goal_.linear()) < 1e-9 &&
+                                   (reference_.translation() - goal_.translation()).norm() < 1e-9;
+    out_.motion_done = reference_at_goal &&
+                       AngleBetween(estimate_.linear(), goal_.linear()) < params_.motion_done_rad &&
+                       (estimate_.translation() - goal_.translation()).norm() < params_.motion_done_m;
+    if (out_.motion_done && !motion_done_sent_) {
+      motion_done_sent_ = true;
+      Emit(EventType::kMotionDone, -1, out_.tracking_error_rad, "object at its goal");
+    }
+  } else {
+    out_.motion_done = false;
+  }
+  out_.object_estimate = estimate_;
+  return out_;
+}
+
+}  // namespace dmpl

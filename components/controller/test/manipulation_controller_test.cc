@@ -1,0 +1,190 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+
+#include "components/controller/manipulation_controller.h"
+#include "components/ik/finger_ik.h"
+
+namespace dmpl {
+namespace {
+
+HandModel LoadHand() {
+  HandParams p;
+  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
+  return HandModel::Load(p);
+}
+
+// A fixed sphere pressed by compliant fingertips that stick where they touch (friction): a tip
+// whose target lies inside the sphere stays at its contact and presses with k times the depth of
+// its target along the surface normal (a servo of bounded stiffness); a tip whose target is
+// outside follows it freely.
+class SpherePlant {
+ public:
+  SpherePlant(const HandKinematics& kin, Eigen::Vector3d centre, double radius, double k)
+      : kin_(kin), centre_(centre), reach_(radius + 0.012), k_(k), anchor_(kin.num_fingers()) {}
+
+  void Apply(const std::vector<Eigen::Vector3d>& targets, std::vector<double>* q,
+             SensedInput* in) {
+    for (int f = 0; f < kin_.num_fingers(); ++f) {
+      SensedTip& t = in->tips[f];
+      t = SensedTip{};
+      Eigen::Vector3d tip = targets[f];
+      if (!anchor_[f] && (targets[f] - centre_).norm() < reach_) {
+        anchor_[f] = centre_ + (targets[f] - centre_).normalized() * reach_;  // touches here
+      }
+      if (anchor_[f]) {
+        const Eigen::Vector3d normal = (*anchor_[f] - centre_).normalized();
+        const double depth = (*anchor_[f] - targets[f]).dot(normal);
+        if (depth > 0) {
+          tip = *anchor_[f];
+          t.in_contact = true;
+          t.force = k_ * depth;
+          t.position = *anchor_[f] - 0.012 * normal;
+        } else {
+          anchor_[f].reset();  // pulled away
+        }
+      }
+      const IkResult r = SolveFingerIk(kin_.finger(f), kin_.FingerJoints(f, *q), tip, ik_);
+      const auto& idx = kin_.joint_indices(f);
+      for (size_t j = 0; j < idx.size(); ++j) (*q)[idx[j]] = r.q[j];
+    }
+    in->q = *q;
+  }
+
+ private:
+  const HandKinematics& kin_;
+  Eigen::Vector3d centre_;
+  double reach_, k_;
+  std::vector<std::optional<Eigen::Vector3d>> anchor_;
+  IkParams ik_;
+};
+
+struct Fixture {
+  HandModel model = LoadHand();
+  HandKinematics kin{model};
+  Eigen::Vector3d centre{0.09, 0.0, 0.02};
+  // Tips on the sphere (the grasp of configs/bench/sim_hold.yaml).
+  std::vector<double> q = {1.0805, 0.6818, 0.7742, 0.8128, -0.2086, 0.6651, 0.8474, 0.7633,
+                           0.0,    0.5752, 0.7849, 0.7381, 0.2086,  0.6651, 0.8474, 0.7633};
+
+  SensedInput Input(int64_t seq) {
+    SensedInput in;
+    in.seq = seq;
+    in.time_s = seq * 1e-3;
+    in.q = q;
+    in.tips.resize(4);
+    in.object_valid = true;
+    in.object.translation() = centre;
+    return in;
+  }
+  TaskInput Grip(int explore_finger = -1) {
+    TaskInput task;
+    task.task_id = explore_finger < 0 ? 1 : 2;
+    task.has_object_target = true;
+    task.object_target.translation() = centre;
+    task.fingers.resize(4);
+    for (int f = 0; f < 4; ++f) task.fingers[f] = {Role::kGrip, Primitive::kComposite};
+    if (explore_finger >= 0) task.fingers[explore_finger] = {Role::kExplore, Primitive::kHybrid};
+    return task;
+  }
+};
+
+TEST(ManipulationControllerTest, CompositeGripReachesThePlannedForcesAndReportsStable) {
+  Fixture fx;
+  ControllerParams params;
+  ManipulationController ctl(fx.kin, params, 1e-3);
+  SpherePlant plant(fx.kin, fx.centre, 0.025, 300.0);
+  SensedInput in = fx.Input(0);
+  plant.Apply({fx.kin.TipPosition(0, fx.q), fx.kin.TipPosition(1, fx.q), fx.kin.TipPosition(2, fx.q),
+               fx.kin.TipPosition(3, fx.q)},
+              &fx.q, &in);
+  bool stable_event = false;
+  for (int k = 0; k < 3000; ++k) {
+    in.seq = k;
+    in.time_s = k * 1e-3;
+    const ControllerOutput& out = ctl.Step(in, fx.Grip());
+    for (const auto& e : out.events) stable_event |= e.type == EventType::kGraspStable;
+
+    std::vector<Eigen::Vector3d> targets;
+    for (const auto& f : out.fingers) targets.push_back(f.target);
+    plant.Apply(targets, &fx.q, &in);
+  }
+  const ControllerOutput& out = ctl.output();
+  Eigen::Vector3d net = Eigen::Vector3d::Zero();
+  for (int f = 0; f < 4; ++f) {
+    const FingerOutput& o = out.fingers[f];
+    EXPECT_TRUE(o.in_contact);
+    EXPECT_NEAR(o.force, o.desired_force, 0.02 * o.desired_force) << "finger " << f;
+    EXPECT_GE(o.desired_force, params.min_grip_force_n - 1e-9);
+    net += o.force * (out.contact_centroid - o.contact).normalized();
+  }
+  EXPECT_LT(net.norm(), 0.05);  // the measured forces balance too
+  EXPECT_TRUE(stable_event);
+  EXPECT_TRUE(out.grasp_stable);
+}
+
+TEST(ManipulationControllerTest, HybridExplorationHoldsItsSmallForce) {
+  Fixture fx;
+  ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);
+  SpherePlant plant(fx.kin, fx.centre, 0.025, 300.0);
+  SensedInput in = fx.Input(0);
+  std::vector<Eigen::Vector3d> tips;
+  for (int f = 0; f < 4; ++f) tips.push_back(fx.kin.TipPosition(f, fx.q));
+  plant.Apply(tips, &fx.q, &in);
+  const int r = fx.kin.FindFinger("R");
+  for (int k = 0; k < 3000; ++k) {
+    in.seq = k;
+    in.time_s = k * 1e-3;
+    const ControllerOutput& out = ctl.Step(in, fx.Grip(k < 1000 ? -1 : r));
+    std::vector<Eigen::Vector3d> targets;
+    for (const auto& f : out.fingers) targets.push_back(f.target);
+    plant.Apply(targets, &fx.q, &in);
+  }
+  const FingerOutput& explorer = ctl.output().fingers[r];
+  EXPECT_EQ(explorer.role, Role::kExplore);
+  EXPECT_NEAR(explorer.force, 0.1, 0.01);
+  for (int f = 0; f < 4; ++f) {
+    if (f == r) continue;
+    EXPECT_NEAR(ctl.output().fingers[f].force, ctl.output().fingers[f].desired_force, 0.03);
+  }
+}
+
+TEST(ManipulationControllerTest, NanInputIsRejectedAndTheTargetsHeld) {
+  Fixture fx;
+  ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);
+  SensedInput in = fx.Input(0);
+  const ControllerOutput first = ctl.Step(in, fx.Grip());
+  in.q[3] = std::nan("");
+  const ControllerOutput& out = ctl.Step(in, fx.Grip());
+  ASSERT_EQ(out.events.size(), 1u);
+  EXPECT_EQ(out.events[0].type, EventType::kInputRejected);
+  for (int f = 0; f < 4; ++f) EXPECT_EQ(out.fingers[f].target, first.fingers[f].target);
+  in = fx.Input(2);
+  in.tips[1].force = std::nan("");
+  EXPECT_EQ(ctl.Step(in, fx.Grip()).events.at(0).type, EventType::kInputRejected);
+}
+
+TEST(ManipulationControllerTest, PositionPrimitiveApproachesAtBoundedSpeed) {
+  Fixture fx;
+  ControllerParams params;
+  ManipulationController ctl(fx.kin, params, 1e-3);
+  SensedInput in = fx.Input(0);
+  TaskInput task;
+  task.task_id = 5;
+  task.fingers.resize(4);
+  const int m = fx.kin.FindFinger("M");
+  const Eigen::Vector3d start = fx.kin.TipPosition(m, fx.q);
+  task.fingers[m] = {Role::kFree, Primitive::kPosition, true, start + Eigen::Vector3d(0, 0, 0.01)};
+  Eigen::Vector3d prev = ctl.Step(in, task).fingers[m].target;
+  for (int k = 1; k < 200; ++k) {
+    in.seq = k;
+    in.time_s = k * 1e-3;
+    const Eigen::Vector3d t = ctl.Step(in, task).fingers[m].target;
+    EXPECT_LE((t - prev).norm(), params.approach_speed * 1e-3 + 1e-12);
+    prev = t;
+  }
+}
+
+}  // namespace
+}  // namespace dmpl
