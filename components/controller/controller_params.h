@@ -19,7 +19,8 @@ struct ForceGains {
 // Section `controller`. Gains are hand-set defaults; tools/dmpl calibrate can fit them.
 struct ControllerParams {
   // Position planner (equations 1-2) and the object reference (Fig. 1).
-  double position_gain = 1.0;            // share of the object pose error corrected per tick
+  double position_gain = 1.0;            // P: share of the contact displacement applied at once
+  double position_integral_gain = 5.0;   // I: 1/s, into the finger's anchor
   double max_linear_speed = 0.01;        // m/s of the object reference
   double max_angular_speed = 0.25;       // rad/s of the object reference
   double object_position_time_constant_s = 0.1;   // low-pass of the noisy object position
@@ -48,6 +49,7 @@ struct ControllerParams {
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(position_gain));
+    a->Visit(DMPL_NVP(position_integral_gain));
     a->Visit(DMPL_NVP(max_linear_speed));
     a->Visit(DMPL_NVP(max_angular_speed));
     a->Visit(DMPL_NVP(object_position_time_constant_s));

@@ -145,6 +145,7 @@ void ManipulationController::ApplyTask(const TaskInput& task,
         (next.has_target && (!s.task.has_target || !next.target.isApprox(s.task.target)))) {
       s.reached = false;
     }
+    if (primitive_changed || next.role != s.task.role) s.anchored = false;
     if (primitive_changed) {
       if (next.primitive == Primitive::kPosition || next.primitive == Primitive::kHold) {
         s.integral = 0.0;
@@ -191,13 +192,17 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
   ApplyTask(task, tips);
   out_.task_id = task_id_;
 
-  // The object reference: small steps of bounded speed toward the goal (Fig. 1).
+  // The object reference: small steps of bounded speed toward the goal (Fig. 1). Its motion this
+  // tick, in the palm frame, carries the grip fingers' anchors along (feedforward).
+  Eigen::Isometry3d reference_step = Eigen::Isometry3d::Identity();
   if (has_goal_ && has_estimate_) {
     if (!has_reference_) {
       reference_ = estimate_;
       has_reference_ = true;
     }
+    const Eigen::Isometry3d previous = reference_;
     reference_ = StepToward(reference_, goal_, max_linear_ * dt_, max_angular_ * dt_);
+    reference_step = reference_ * previous.inverse();
   }
   const bool moving = has_goal_ && has_reference_;
   out_.tracking_error_rad = moving ? AngleBetween(estimate_.linear(), reference_.linear()) : 0.0;
@@ -250,11 +255,22 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         break;
       }
       case Primitive::kComposite: {
-        // Position: P on the displacement the object's motion asks of this contact.
+        // Position. The finger is anchored where it took hold: a grip needs the servo's stiffness
+        // in every direction, or the tangential part of the planned force rolls the tip away.
+        // The anchor moves rigidly with the object reference (feedforward); the displacement the
+        // position planner asks of this contact (eq. 1-2, estimate -> reference) corrects it: P
+        // now, and I into the anchor, which removes the steady error of rolling contacts (a
+        // rolling object turns (r_object + r_tip) / r_object times as far as its fingertips).
+        if (!s.anchored) {
+          s.anchor = tips[f];
+          s.anchored = true;
+        }
         Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
         if (moving && s.task.role == Role::kGrip) {
-          displacement =
-              params_.position_gain * (MoveWithObject(estimate_, motion, tips[f]) - tips[f]);
+          s.anchor = reference_step * s.anchor;
+          const Eigen::Vector3d error = MoveWithObject(estimate_, motion, tips[f]) - tips[f];
+          s.anchor += params_.position_integral_gain * dt_ * error;
+          displacement = params_.position_gain * error;
         }
         // Force: PI along the planned direction (toward the grip centroid).
         Eigen::Vector3d direction = plan.forces[f].direction;
@@ -269,7 +285,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         direction.normalize();
         if (!direction.allFinite()) direction.setZero();
         s.last_direction = direction;
-        s.target = tips[f] + displacement + direction * ForceTerm(&s, desired, in.tips[f].force);
+        s.target = s.anchor + displacement + direction * ForceTerm(&s, desired, in.tips[f].force);
         o.desired_force = desired;
         break;
       }

@@ -123,6 +123,8 @@ class ManipulationController {
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
     bool has_target = false;
     bool reached = false;
+    bool anchored = false;       // composite: the anchor is set
+    Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     Eigen::Vector3d last_direction = Eigen::Vector3d::Zero();
   };
 
