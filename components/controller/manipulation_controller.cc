@@ -145,7 +145,12 @@ void ManipulationController::ApplyTask(const TaskInput& task,
         (next.has_target && (!s.task.has_target || !next.target.isApprox(s.task.target)))) {
       s.reached = false;
     }
-    if (primitive_changed || next.role != s.task.role) s.anchored = false;
+    if (primitive_changed || next.role != s.task.role) {
+      s.anchored = false;
+      // Who grips changed: the grasp has to prove itself stable again.
+      stable_sent_ = false;
+      stable_since_ = -1.0;
+    }
     if (primitive_changed) {
       if (next.primitive == Primitive::kPosition || next.primitive == Primitive::kHold) {
         s.integral = 0.0;

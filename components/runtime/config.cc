@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 
 namespace dmpl {
 
@@ -12,11 +13,30 @@ const std::vector<std::string>& KnownConfigSections() {
   return sections;
 }
 
+namespace {
+
+// An experiment may build on another: `experiment: {base: other.yaml}` (relative to the file).
+YAML::Node LoadWithBase(const std::string& file, int depth) {
+  YAML::Node root = LoadYamlFile(file);
+  const YAML::Node& const_root = root;
+  if (!root.IsMap() || !const_root["experiment"] || !const_root["experiment"]["base"]) return root;
+  if (depth > 8) throw ConfigError("config error in " + file + ": experiment.base nests too deep");
+  const std::string base_name = const_root["experiment"]["base"].as<std::string>();
+  const std::filesystem::path base_path =
+      std::filesystem::path(file).parent_path() / std::filesystem::path(base_name);
+  YAML::Node base = LoadWithBase(base_path.string(), depth + 1);
+  root["experiment"].remove("base");
+  MergeYaml(base, root);
+  return base;
+}
+
+}  // namespace
+
 Config Config::Resolve(const std::string& file, const std::vector<std::string>& params_files,
                        const std::vector<std::string>& set_overrides) {
   Config config;
   if (!file.empty()) {
-    config.root_ = LoadYamlFile(file);
+    config.root_ = LoadWithBase(file, 0);
     config.source_ = file;
   }
   if (!config.root_.IsMap()) {

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -54,6 +55,10 @@ template <typename T>
 struct IsArray : std::false_type {};
 template <typename T, size_t N>
 struct IsArray<std::array<T, N>> : std::true_type {};
+template <typename T>
+struct IsOptional : std::false_type {};
+template <typename T>
+struct IsOptional<std::optional<T>> : std::true_type {};
 template <typename T>
 struct IsStringMap : std::false_type {};
 template <typename T>
@@ -124,6 +129,9 @@ class YamlReadArchive {
       for (size_t i = 0; i < n.size(); ++i) {
         Read(n[i], path + "[" + std::to_string(i) + "]", &(*v)[i]);
       }
+    } else if constexpr (internal::IsOptional<T>::value) {
+      v->emplace();
+      Read(n, path, &**v);
     } else if constexpr (internal::IsStringMap<T>::value) {
       ExpectMap(n, path);
       v->clear();
@@ -162,6 +170,8 @@ class YamlWriteArchive {
   static YAML::Node ToNode(const T& v) {
     if constexpr (internal::IsSerializable<T>::value) {
       return Save(v);
+    } else if constexpr (internal::IsOptional<T>::value) {
+      return v ? ToNode(*v) : YAML::Node();
     } else if constexpr (internal::IsVector<T>::value || internal::IsArray<T>::value) {
       YAML::Node seq(YAML::NodeType::Sequence);
       for (const auto& e : v) seq.push_back(ToNode(e));

@@ -5,6 +5,7 @@ value as YAML and creates intermediate maps; --params files are merged map by ma
 """
 import copy
 import subprocess
+from pathlib import Path
 
 import yaml
 
@@ -14,7 +15,7 @@ from .paths import executable
 KNOWN_SECTIONS = {"run", "hand", "sim", "object", "noise", "ik", "controller", "supervisor",
                   "task", "experiment", "processes", "joint_player", "metrics", "calibration"}
 
-EXPERIMENT_KEYS = {"name": str, "description": str, "timeout_s": (int, float)}
+EXPERIMENT_KEYS = {"name": str, "description": str, "timeout_s": (int, float), "base": str}
 METRICS_DEFAULTS = {
     "settle_s": 1.0,            # without a supervisor, the task begins this long after release
     "drop_distance_m": 0.05,    # dropped: the centre moved this far from where it was released...
@@ -75,9 +76,21 @@ def load_yaml(path):
     return data
 
 
+def load_with_base(path, depth=0):
+    """An experiment may build on another: `experiment: {base: other.yaml}` (relative to it)."""
+    config = load_yaml(path)
+    base = config.get("experiment", {}).get("base") if isinstance(config.get("experiment"), dict) else None
+    if not base:
+        return config
+    if depth > 8:
+        raise ExperimentError(f"{path}: experiment.base nests too deep")
+    del config["experiment"]["base"]
+    return merge(load_with_base(Path(path).parent / base, depth + 1), config)
+
+
 def resolve(path, params_files=(), sets=(), seed=None):
     """Returns the resolved experiment config (a dict)."""
-    config = load_yaml(path)
+    config = load_with_base(path)
     for p in params_files:
         merge(config, load_yaml(p))
     for s in sets:

@@ -1,0 +1,124 @@
+#include "supervisor/regrasp_chart.h"
+
+#include "components/runtime/check.h"
+
+namespace dmpl {
+
+const char* ToString(RegraspState s) {
+  switch (s) {
+    case RegraspState::S1: return "S1";
+    case RegraspState::S2: return "S2";
+    case RegraspState::S3: return "S3";
+    case RegraspState::S4: return "S4";
+    case RegraspState::S5: return "S5";
+  }
+  return "?";
+}
+
+const char* ToString(RegraspEvent e) {
+  switch (e) {
+    case RegraspEvent::Begin: return "Begin";
+    case RegraspEvent::LocalRotate: return "LocalRotate";
+    case RegraspEvent::ExploreReady: return "ExploreReady";
+    case RegraspEvent::RotateDone: return "RotateDone";
+    case RegraspEvent::GripStable: return "GripStable";
+    case RegraspEvent::Abort: return "Abort";
+  }
+  return "?";
+}
+
+namespace {
+constexpr RegraspState kExploreState[4] = {RegraspState::S2, RegraspState::S3, RegraspState::S4,
+                                           RegraspState::S5};
+const char* const kCanonical[4] = {"T", "F", "M", "R"};
+}  // namespace
+
+RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> order)
+    : actions_(actions), order_(std::move(order)), chart_(Build()) {
+  DMPL_DEMAND(actions_ != nullptr);
+  DMPL_DEMAND(order_.size() == 4);
+}
+
+std::string RegraspChart::Grippers(int k) const {
+  std::string out;
+  for (const char* f : kCanonical) {
+    if (order_[k] != f) out += f;
+  }
+  return out;
+}
+
+sc::Guard RegraspChart::NextIs(int k) {
+  return sc::Guard("next is " + order_[k] + ", goal not reached",
+                   [this, k] { return next_ == k && !actions_->GoalReached(); });
+}
+
+// The paper numbers the actions per finger: explore 4, 7, 10, 13; rotate 2, 5, 8, 11; grip 3, 6,
+// 9, 12 for the fingers in exploring order R, M, F, T (S2..S5).
+sc::Action RegraspChart::ExploreAction(int number, int k) {
+  const std::string name = "A" + std::to_string(number) + " " + order_[k] + " explore";
+  return sc::Action(name, [this, k, name] {
+    last_action_ = name;
+    phase_ = Phase::kExploring;
+    actions_->Explore(order_[k]);
+  });
+}
+
+sc::Action RegraspChart::RotateAction(int number, int k) {
+  const std::string grippers = Grippers(k);
+  const std::string name = "A" + std::to_string(number) + " " + grippers + " rotate";
+  return sc::Action(name, [this, grippers, name] {
+    last_action_ = name;
+    phase_ = Phase::kRotating;
+    actions_->Rotate(grippers);
+  });
+}
+
+sc::Action RegraspChart::GripAction(int number, int k) {
+  const std::string name = "A" + std::to_string(number) + " " + order_[k] + " grip";
+  return sc::Action(name, [this, k, name] {
+    last_action_ = name;
+    phase_ = Phase::kGripping;
+    ++regrasps_;
+    next_ = (k + 1) % 4;
+    actions_->Grip(order_[k]);
+  });
+}
+
+sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
+  using S = RegraspState;
+  using E = RegraspEvent;
+  const sc::Guard exploring("exploring", [this] { return phase_ == Phase::kExploring; });
+  const sc::Guard rotating("rotating", [this] { return phase_ == Phase::kRotating; });
+  const sc::Guard goal("goal reached", [this] { return actions_->GoalReached(); });
+  const sc::Action a1("A1 TFMR rotate", [this] {
+    last_action_ = "A1 TFMR rotate";
+    phase_ = Phase::kRotating;
+    actions_->Rotate("TFMR");
+  });
+  const sc::Action finish("finish", [this] {
+    last_action_ = "finish";
+    phase_ = Phase::kGripping;
+    actions_->Finish();
+  });
+  const sc::Action abort("abort step", [this] {
+    last_action_ = "abort step";
+    phase_ = Phase::kGripping;
+  });
+  std::vector<sc::StateMachine<S, E>::Row> rows = {
+      // from   event            guard   action  to
+      {S::S1, E::LocalRotate, sc::kAlways, a1, S::S1},
+      {S::S1, E::Begin, goal, finish, S::S1},
+      {S::S1, E::GripStable, goal, finish, S::S1},
+  };
+  for (int k = 0; k < 4; ++k) {
+    const S sk = kExploreState[k];
+    rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+    rows.push_back({S::S1, E::GripStable, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+    rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});
+    rows.push_back({sk, E::RotateDone, rotating, GripAction(3 + 3 * k, k), S::S1});
+    rows.push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
+  }
+  return sc::StateMachine<S, E>("regrasp", S::S1, std::move(rows));
+}
+
+}  // namespace dmpl

@@ -1,0 +1,75 @@
+#pragma once
+// The regrasp statechart of the paper's Fig. 4: states S1-S5 (who grips, who explores) and
+// actions A1-A13. Every role change passes through S1; the fingers explore in a configured order
+// (the paper's R, M, F, T), each time the other three turn the object by one step. The chart
+// decides; what an action means for the fingers is up to the RegraspActions it is given.
+#include <string>
+#include <vector>
+
+#include "supervisor/statechart.h"
+
+namespace dmpl {
+
+enum class RegraspState { S1, S2, S3, S4, S5 };
+enum class RegraspEvent {
+  Begin,         // a gait (or a local rotation) starts, all four fingers gripping
+  LocalRotate,   // a local rotation with all four fingers
+  ExploreReady,  // the exploring finger is at its new contact point
+  RotateDone,    // the object reached the step's goal
+  GripStable,    // the grasp is stable with the finger that just switched to grip
+  Abort,         // a contingency: back to all-grip without finishing the step
+};
+
+const char* ToString(RegraspState s);
+const char* ToString(RegraspEvent e);
+
+// What the chart asks for. `finger` is the name of the exploring or gripping finger; `grippers`
+// the fingers that turn the object ("TFM").
+class RegraspActions {
+ public:
+  virtual ~RegraspActions() = default;
+  virtual void Explore(const std::string& finger) = 0;              // A4, A7, A10, A13
+  virtual void Rotate(const std::string& grippers) = 0;             // A1, A2, A5, A8, A11
+  virtual void Grip(const std::string& finger) = 0;                 // A3, A6, A9, A12
+  virtual void Finish() = 0;                                        // the goal is reached
+  virtual bool GoalReached() const = 0;
+};
+
+class RegraspChart {
+ public:
+  // `order`: the exploring order (each a finger name; four of them, S2..S5 = order[0..3]).
+  RegraspChart(RegraspActions* actions, std::vector<std::string> order);
+
+  bool Process(RegraspEvent e) { return chart_.Process(e); }
+  bool is(RegraspState s) const { return chart_.is(s); }
+  RegraspState state() const { return chart_.state(); }
+  const std::string& last_action() const { return last_action_; }
+  const std::string& next_explorer() const { return order_[next_]; }
+  int regrasps() const { return regrasps_; }
+  bool rotating() const { return phase_ == Phase::kRotating; }
+  bool exploring() const { return phase_ == Phase::kExploring; }
+  std::string ToDot() const { return chart_.ToDot(); }
+  std::string ToMermaid() const { return chart_.ToMermaid(); }
+  void set_log(sc::StateMachine<RegraspState, RegraspEvent>::Log log) {
+    chart_.set_log(std::move(log));
+  }
+
+ private:
+  enum class Phase { kGripping, kExploring, kRotating };
+  sc::StateMachine<RegraspState, RegraspEvent> Build();
+  sc::Guard NextIs(int k);
+  sc::Action ExploreAction(int number, int k);
+  sc::Action RotateAction(int number, int k);
+  sc::Action GripAction(int number, int k);
+  std::string Grippers(int k) const;
+
+  RegraspActions* actions_;
+  std::vector<std::string> order_;
+  int next_ = 0;
+  int regrasps_ = 0;
+  Phase phase_ = Phase::kGripping;
+  std::string last_action_;
+  sc::StateMachine<RegraspState, RegraspEvent> chart_;
+};
+
+}  // namespace dmpl

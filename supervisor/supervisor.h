@@ -1,0 +1,173 @@
+#pragma once
+// The supervisor's core: the grasp statechart of the paper's Fig. 5 (object held -> approach ->
+// contact -> composite -> stable -> release -> tasks -> end), the tasks of a task file run in
+// sequence, the regrasp statechart (Fig. 4) for finger gaiting, and the replanning the paper left
+// for future work: a grip finger that loses contact, or an object that slips, pauses the motion
+// and re-grips; a process that stops beating makes it hold the grasp. Pure: controller status in,
+// the controller's task and simulator requests out, once per tick.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "supervisor/regrasp_chart.h"
+#include "supervisor/statechart.h"
+#include "supervisor/supervisor_params.h"
+#include "supervisor/task_description.h"
+
+namespace dmpl {
+
+enum class GraspState {
+  ObjectHeld, Approaching, Gripping, Releasing, Settling, Tasks, Recovering, Holding, Done, Failed
+};
+enum class GraspEvent {
+  Start, AllTouching, GraspStable, ReleaseDue, Settled, TaskDone, TaskFailed, ContactLost, Slip,
+  Recovered, ProcessLost, ProcessBack, GraspLost, Timeout
+};
+const char* ToString(GraspState s);
+const char* ToString(GraspEvent e);
+
+struct FingerView {
+  bool in_contact = false;
+  double force = 0.0;
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+};
+
+// What the supervisor reads from one controller status.
+struct ControllerView {
+  int64_t seq = 0;
+  double time_s = 0.0;
+  std::vector<FingerView> fingers;
+  Eigen::Isometry3d object = Eigen::Isometry3d::Identity();  // the controller's estimate
+  std::vector<ControllerEvent> events;
+  bool motion_done = false;
+  bool grasp_stable = false;
+};
+
+enum class SimRequest { kNone, kRelease, kStop };
+
+struct SupervisorOutput {
+  TaskInput task;                       // the controller's task for the next tick
+  SimRequest sim = SimRequest::kNone;   // a simulator control to send with this tick's seq
+  bool changed = false;                 // state, action or task changed this tick
+};
+
+class Supervisor : private RegraspActions {
+ public:
+  Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
+             SupervisorParams params);
+
+  const SupervisorOutput& Step(const ControllerView& view);
+  // From the heartbeat monitor: a required process went silent (lost) or is back.
+  void SetProcessLost(bool lost, const std::string& who);
+
+  GraspState grasp_state() const { return grasp_.state(); }
+  const RegraspChart& regrasp() const { return regrasp_; }
+  std::string task_name() const;
+  int task_index() const { return task_index_; }
+  int num_tasks() const { return static_cast<int>(tasks_.tasks.size()); }
+  const std::vector<std::string>& fingers() const { return fingers_; }
+  std::vector<Role> roles() const;
+  double rotation_commanded() const { return rotation_commanded_; }
+  double rotation_goal() const { return rotation_goal_; }
+  int recoveries() const { return recoveries_; }
+  bool holding() const { return grasp_.is(GraspState::Holding); }
+  bool finished() const { return grasp_.is(GraspState::Done); }
+  bool failed() const { return grasp_.is(GraspState::Failed); }
+  const std::string& last_action() const { return last_action_; }
+  const std::string& note() const { return note_; }
+  std::string GraspChartDot() const { return grasp_.ToDot(); }
+  std::string RegraspChartDot() const { return regrasp_.ToDot(); }
+  std::string GraspChartMermaid() const { return grasp_.ToMermaid(); }
+  std::string RegraspChartMermaid() const { return regrasp_.ToMermaid(); }
+  // Every transition of both charts, as text (for logs and tests).
+  const std::vector<std::string>& transitions() const { return transitions_; }
+
+ private:
+  using GraspChart = sc::StateMachine<GraspState, GraspEvent>;
+  GraspChart BuildGraspChart();
+
+  // RegraspActions.
+  void Explore(const std::string& finger) override;
+  void Rotate(const std::string& grippers) override;
+  void Grip(const std::string& finger) override;
+  void Finish() override;
+  bool GoalReached() const override;
+
+  // Commands.
+  void NewTask(const std::string& name);
+  void SetFinger(int f, Role role, Primitive primitive, const Eigen::Vector3d* target = nullptr,
+                 double force = 0.0);
+  void AllGrip();
+  void HoldObjectWhereItIs();
+  void RotateGoal(const Eigen::Vector3d& axis, double angle);
+  Eigen::Vector3d Axis(const std::string& name) const;
+  int Finger(const std::string& name) const;
+
+  // Grasp chart actions.
+  void Approach();
+  void StartTask(int index);
+  void PauseAndRegrip(const std::string& why);
+  void Resume();
+  void Hold(const std::string& why);
+  void Fail(const std::string& why);
+
+  // Per-tick work by state.
+  void TickApproach();
+  void TickLocalTask();
+  void TickGait();
+  bool ConditionHolds(Condition c, int finger, double since) const;
+  void Note(const std::string& text);
+
+  std::vector<std::string> fingers_;
+  TaskFile tasks_;
+  TaskParams task_params_;
+  SupervisorParams params_;
+  SupervisorOutput out_;
+  ControllerView view_;
+  double now_ = 0.0;
+  double state_since_ = 0.0;
+  int32_t next_task_id_ = 1;
+
+  // The commanded object goal (palm frame).
+  bool has_goal_ = false;
+  Eigen::Isometry3d goal_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d start_pose_ = Eigen::Isometry3d::Identity();
+  double rotation_commanded_ = 0.0;
+  double rotation_goal_ = 0.0;
+  double rotation_at_task_start_ = 0.0;
+
+  // Grasp.
+  std::vector<int> extensions_;
+  std::vector<bool> touched_;
+  std::vector<bool> reached_;
+  double stable_at_ = -1.0;
+
+  // Tasks.
+  int task_index_ = -1;
+  double task_since_ = 0.0;
+  std::vector<int> ptask_index_;
+  std::vector<double> ptask_since_;
+  bool motion_done_event_ = false;
+  std::vector<Eigen::Vector3d> home_;
+  Eigen::Vector3d home_centre_ = Eigen::Vector3d::Zero();
+  double phase_since_ = 0.0;
+  int explorer_ = -1;
+  Eigen::Vector3d explore_target_ = Eigen::Vector3d::Zero();
+  bool gait_done_ = false;
+
+  // Contingencies.
+  int recoveries_ = 0;
+  bool process_lost_ = false;
+  bool stop_sent_ = false;
+  bool release_sent_ = false;
+
+  std::string last_action_;
+  std::string note_;
+  std::vector<std::string> transitions_;
+  RegraspChart regrasp_;
+  GraspChart grasp_;
+};
+
+}  // namespace dmpl

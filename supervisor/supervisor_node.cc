@@ -1,0 +1,212 @@
+// dmpl_supervisor: the grasp and regrasp statecharts on LCM. Reads sections: run, hand, task,
+// supervisor. In lockstep it answers every DMPL_CONTROLLER_STATUS k with the DMPL_TASK of seq k
+// (the controller uses it at tick k + 1), so every task takes effect at a defined tick.
+//   dmpl_supervisor --dot      prints both charts (Graphviz) and exits
+//   dmpl_supervisor --mermaid  prints both charts (Mermaid, as drawn in the README) and exits
+#include <cstring>
+#include <iostream>
+#include <map>
+
+#include "components/hand/hand_model.h"
+#include "components/runtime/channels.h"
+#include "components/runtime/clock.h"
+#include "components/runtime/node.h"
+#include "dmpl/controller_status_t.hpp"
+#include "dmpl/heartbeat_t.hpp"
+#include "dmpl/sim_control_t.hpp"
+#include "dmpl/supervisor_status_t.hpp"
+#include "dmpl/task_cmd_t.hpp"
+#include "supervisor/supervisor.h"
+
+namespace dmpl {
+namespace {
+
+class SupervisorNode : public Node {
+ public:
+  SupervisorNode(const NodeContext& ctx, std::vector<std::string> fingers, TaskFile tasks,
+                 const TaskParams& task_params, const SupervisorParams& params)
+      : Node(ctx.name, ctx.lcm),
+        params_(params),
+        fingers_(fingers),
+        core_(fingers, std::move(tasks), task_params, params) {
+    lcm().subscribe(channels::kControllerStatus, &SupervisorNode::OnStatus, this);
+    lcm().subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
+    AddTimer(0.2, [this] { CheckHeartbeats(); });
+  }
+
+ private:
+  void OnHeartbeat(const lcm::ReceiveBuffer*, const std::string&, const heartbeat_t* hb) {
+    last_beat_[hb->process] = MonotonicSeconds();
+  }
+
+  void CheckHeartbeats() {
+    const double now = MonotonicSeconds();
+    std::string silent;
+    for (const auto& p : params_.required_processes) {
+      const auto it = last_beat_.find(p);
+      const double since = it == last_beat_.end() ? now - started_ : now - it->second;
+      if (since > params_.heartbeat_timeout_s) silent += (silent.empty() ? "" : ", ") + p;
+    }
+    const bool lost = !silent.empty();
+    if (lost != core_.holding() && core_.grasp_state() != GraspState::ObjectHeld) {
+      if (lost) log().error("no heartbeat from {}: holding the grasp", silent);
+      core_.SetProcessLost(lost, lost ? silent : std::string("all"));
+      PublishStatus(last_seq_, last_utime_);
+    }
+  }
+
+  void OnStatus(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
+    ControllerView view;
+    view.seq = m->seq;
+    view.time_s = m->utime * 1e-6;
+    view.fingers.resize(fingers_.size());
+    for (const auto& fs : m->fingers) {
+      const int f = Index(fs.finger);
+      if (f < 0) continue;
+      view.fingers[f] = {fs.in_contact != 0, fs.force_n,
+                         Eigen::Vector3d(fs.tip_position[0], fs.tip_position[1], fs.tip_position[2])};
+    }
+    view.object.translation() =
+        Eigen::Vector3d(m->object_position[0], m->object_position[1], m->object_position[2]);
+    view.object.linear() = Eigen::Quaterniond(m->object_orientation[0], m->object_orientation[1],
+                                              m->object_orientation[2], m->object_orientation[3])
+                               .normalized()
+                               .toRotationMatrix();
+    for (const auto& e : m->events) {
+      view.events.push_back({static_cast<EventType>(e.type), Index(e.finger), e.value, e.text});
+    }
+    view.motion_done = m->motion_done;
+    view.grasp_stable = m->grasp_stable;
+    const size_t logged = core_.transitions().size();
+    const SupervisorOutput& out = core_.Step(view);
+    for (size_t i = logged; i < core_.transitions().size(); ++i) {
+      log().info("t = {:.3f} s: {}", view.time_s, core_.transitions()[i]);
+    }
+    if (out.sim != SimRequest::kNone) {
+      sim_control_t c{};
+      c.utime = m->utime;
+      c.seq = m->seq;  // takes effect before the simulator steps from this tick
+      c.command = out.sim == SimRequest::kRelease ? sim_control_t::RELEASE : sim_control_t::STOP;
+      c.reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
+      lcm().publish(channels::kSimControl, &c);
+    }
+    PublishTask(out.task, m->seq, m->utime);
+    if (out.changed || m->seq % params_.status_every_ticks == 0) PublishStatus(m->seq, m->utime);
+    last_seq_ = m->seq;
+    last_utime_ = m->utime;
+    set_tick(m->seq);
+  }
+
+  int Index(const std::string& finger) const {
+    for (size_t f = 0; f < fingers_.size(); ++f) {
+      if (fingers_[f] == finger) return static_cast<int>(f);
+    }
+    return -1;
+  }
+
+  void PublishTask(const TaskInput& t, int64_t seq, int64_t utime) {
+    task_cmd_t m{};
+    m.utime = utime;
+    m.seq = seq;
+    m.task_id = t.task_id;
+    m.name = t.name;
+    m.has_object_target = t.has_object_target;
+    const Eigen::Quaterniond q(t.object_target.linear());
+    for (int i = 0; i < 3; ++i) m.object_position[i] = t.object_target.translation()[i];
+    m.object_orientation[0] = q.w();
+    m.object_orientation[1] = q.x();
+    m.object_orientation[2] = q.y();
+    m.object_orientation[3] = q.z();
+    m.max_linear_speed = t.max_linear_speed;
+    m.max_angular_speed = t.max_angular_speed;
+    for (size_t f = 0; f < fingers_.size(); ++f) {
+      finger_primitive_t p{};
+      p.finger = fingers_[f];
+      p.role = static_cast<int8_t>(t.fingers[f].role);
+      p.primitive = static_cast<int8_t>(t.fingers[f].primitive);
+      p.has_target = t.fingers[f].has_target;
+      for (int i = 0; i < 3; ++i) p.target_position[i] = t.fingers[f].target[i];
+      p.force_n = t.fingers[f].force_n;
+      m.fingers.push_back(p);
+    }
+    m.num_fingers = static_cast<int8_t>(m.fingers.size());
+    lcm().publish(channels::kTask, &m);
+  }
+
+  void PublishStatus(int64_t seq, int64_t utime) {
+    supervisor_status_t s{};
+    s.utime = utime;
+    s.seq = seq;
+    s.grasp_state = ToString(core_.grasp_state());
+    s.regrasp_state = ToString(core_.regrasp().state());
+    s.last_action = core_.regrasp().last_action();
+    s.task_name = core_.task_name();
+    s.task_index = core_.task_index();
+    s.num_tasks = core_.num_tasks();
+    s.finger = fingers_;
+    for (Role r : core_.roles()) s.role.push_back(static_cast<int8_t>(r));
+    s.num_fingers = static_cast<int8_t>(fingers_.size());
+    s.rotation_commanded_rad = core_.rotation_commanded();
+    s.rotation_goal_rad = core_.rotation_goal();
+    s.regrasps = core_.regrasp().regrasps();
+    s.recoveries = core_.recoveries();
+    s.holding = core_.holding();
+    s.finished = core_.finished();
+    s.failed = core_.failed();
+    s.note = core_.note();
+    lcm().publish(channels::kSupervisorStatus, &s);
+  }
+
+  SupervisorParams params_;
+  std::vector<std::string> fingers_;
+  Supervisor core_;
+  std::map<std::string, double> last_beat_;
+  double started_ = MonotonicSeconds();
+  int64_t last_seq_ = 0;
+  int64_t last_utime_ = 0;
+};
+
+struct Loaded {
+  std::vector<std::string> fingers;
+  TaskFile tasks;
+  TaskParams task_params;
+  SupervisorParams params;
+};
+
+Loaded Load(const Config& config) {
+  Loaded l;
+  HandParams hand;
+  config.Load("hand", &hand);
+  config.Load("task", &l.task_params);
+  config.Load("supervisor", &l.params);
+  l.task_params.Validate(config.source());
+  for (const auto& f : hand.fingers) l.fingers.push_back(f.name);
+  l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
+  return l;
+}
+
+}  // namespace
+}  // namespace dmpl
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const bool dot = std::strcmp(argv[i], "--dot") == 0;
+    const bool mermaid = std::strcmp(argv[i], "--mermaid") == 0;
+    if (!dot && !mermaid) continue;
+    dmpl::TaskParams task;
+    task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
+    const std::vector<std::string> fingers = {"T", "F", "M", "R"};
+    dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
+                       dmpl::SupervisorParams{});
+    std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n"
+              << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
+    return 0;
+  }
+  return dmpl::RunNodeMain(
+      argc, argv, "dmpl_supervisor", "Reads sections: run, hand, task, supervisor.",
+      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
+        dmpl::Loaded l = dmpl::Load(ctx.config);
+        return std::make_unique<dmpl::SupervisorNode>(ctx, l.fingers, std::move(l.tasks),
+                                                      l.task_params, l.params);
+      });
+}

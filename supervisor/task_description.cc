@@ -1,0 +1,296 @@
+#include "supervisor/task_description.h"
+
+#include <algorithm>
+
+namespace dmpl {
+namespace {
+
+// The YAML shape of a task file, read strictly by the params archive (unknown keys, wrong types
+// are errors naming the file and the key); then checked and converted below.
+struct FIstateYaml {
+  std::string contact = "any";  // any | touching | free
+  std::string role = "any";     // any | free | grip | explore
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(contact));
+    a->Visit(DMPL_NVP(role));
+  }
+};
+
+struct PTaskYaml {
+  std::string primitive = "composite";  // hold | position | composite | hybrid
+  std::string role = "grip";            // free | grip | explore
+  FIstateYaml entry, exit;
+  std::string until = "none";
+  double duration_s = 0.0;
+  std::optional<std::array<double, 3>> target;
+  double force_n = 0.0;
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(primitive));
+    a->Visit(DMPL_NVP(role));
+    a->Visit(DMPL_NVP(entry));
+    a->Visit(DMPL_NVP(exit));
+    a->Visit(DMPL_NVP(until));
+    a->Visit(DMPL_NVP(duration_s));
+    a->Visit(DMPL_NVP(target));
+    a->Visit(DMPL_NVP(force_n));
+  }
+};
+
+struct MotionYaml {
+  std::string reference = "current";  // current | start
+  double angle = 0.0;
+  std::string angle_units = "task";   // task (multiples of task.angle) | rad
+  std::string axis = "task";
+  double max_angular_speed = 0.0;
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(reference));
+    a->Visit(DMPL_NVP(angle));
+    a->Visit(DMPL_NVP(angle_units));
+    a->Visit(DMPL_NVP(axis));
+    a->Visit(DMPL_NVP(max_angular_speed));
+  }
+};
+
+struct CTaskYaml {
+  std::string name;
+  std::string type = "local";
+  std::map<std::string, std::vector<PTaskYaml>> fingers;
+  std::optional<MotionYaml> object_motion;
+  std::string done_when = "motion_done";
+  double duration_s = 0.0;
+  double timeout_s = 30.0;
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(name));
+    a->Visit(DMPL_NVP(type));
+    a->Visit(DMPL_NVP(fingers));
+    a->Visit(DMPL_NVP(object_motion));
+    a->Visit(DMPL_NVP(done_when));
+    a->Visit(DMPL_NVP(duration_s));
+    a->Visit(DMPL_NVP(timeout_s));
+  }
+};
+
+struct GraspYaml {
+  std::map<std::string, std::array<double, 3>> approach;
+  double approach_extension_m = 0.01;
+  int max_extensions = 3;
+  double release_after_stable_s = 0.2;
+  double settle_s = 0.5;
+  double timeout_s = 10.0;
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(approach));
+    a->Visit(DMPL_NVP(approach_extension_m));
+    a->Visit(DMPL_NVP(max_extensions));
+    a->Visit(DMPL_NVP(release_after_stable_s));
+    a->Visit(DMPL_NVP(settle_s));
+    a->Visit(DMPL_NVP(timeout_s));
+  }
+};
+
+struct GaitYaml {
+  std::vector<std::string> order = {"R", "M", "F", "T"};
+  double explore_timeout_s = 3.0;
+  double rotate_timeout_s = 5.0;
+  double grip_timeout_s = 2.0;
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(order));
+    a->Visit(DMPL_NVP(explore_timeout_s));
+    a->Visit(DMPL_NVP(rotate_timeout_s));
+    a->Visit(DMPL_NVP(grip_timeout_s));
+  }
+};
+
+struct TaskFileYaml {
+  std::string name;
+  GraspYaml grasp;
+  std::vector<CTaskYaml> tasks;
+  GaitYaml gait;
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(name));
+    a->Visit(DMPL_NVP(grasp));
+    a->Visit(DMPL_NVP(tasks));
+    a->Visit(DMPL_NVP(gait));
+  }
+};
+
+class Checker {
+ public:
+  explicit Checker(std::string source) : source_(std::move(source)) {}
+  [[noreturn]] void Fail(const std::string& key, const std::string& what) const {
+    throw ConfigError("task file error in " + source_ + ": key '" + key + "': " + what);
+  }
+  template <typename E>
+  E Pick(const std::string& key, const std::string& value,
+         const std::vector<std::pair<std::string, E>>& choices) const {
+    std::string names;
+    for (const auto& [name, e] : choices) {
+      if (name == value) return e;
+      names += (names.empty() ? "" : ", ") + name;
+    }
+    Fail(key, "'" + value + "' is not one of " + names);
+  }
+
+ private:
+  std::string source_;
+};
+
+Condition ParseCondition(const Checker& c, const std::string& key, const std::string& value) {
+  return c.Pick<Condition>(key, value,
+                           {{"none", Condition::kNone},
+                            {"contact", Condition::kContact},
+                            {"target_reached", Condition::kTargetReached},
+                            {"grasp_stable", Condition::kGraspStable},
+                            {"motion_done", Condition::kMotionDone},
+                            {"duration", Condition::kDuration}});
+}
+
+FIstate ParseFIstate(const Checker& c, const std::string& key, const FIstateYaml& y) {
+  FIstate s;
+  s.contact = c.Pick<ContactState>(
+      key + ".contact", y.contact,
+      {{"any", ContactState::kAny}, {"touching", ContactState::kTouching}, {"free", ContactState::kFree}});
+  if (y.role != "any") {
+    s.role = c.Pick<Role>(key + ".role", y.role,
+                          {{"free", Role::kFree}, {"grip", Role::kGrip}, {"explore", Role::kExplore}});
+  }
+  return s;
+}
+
+PTask ParsePTask(const Checker& c, const std::string& key, const PTaskYaml& y) {
+  PTask p;
+  p.primitive = c.Pick<Primitive>(key + ".primitive", y.primitive,
+                                  {{"hold", Primitive::kHold},
+                                   {"position", Primitive::kPosition},
+                                   {"composite", Primitive::kComposite},
+                                   {"hybrid", Primitive::kHybrid}});
+  p.role = c.Pick<Role>(key + ".role", y.role,
+                        {{"free", Role::kFree}, {"grip", Role::kGrip}, {"explore", Role::kExplore}});
+  p.entry = ParseFIstate(c, key + ".entry", y.entry);
+  p.exit = ParseFIstate(c, key + ".exit", y.exit);
+  p.until = ParseCondition(c, key + ".until", y.until);
+  p.duration_s = y.duration_s;
+  if (p.until == Condition::kDuration && !(y.duration_s > 0)) {
+    c.Fail(key + ".duration_s", "until: duration needs duration_s > 0");
+  }
+  if (y.target) {
+    p.has_target = true;
+    p.target = Eigen::Vector3d((*y.target)[0], (*y.target)[1], (*y.target)[2]);
+  }
+  if (p.primitive == Primitive::kPosition && !p.has_target) {
+    c.Fail(key + ".target", "a position primitive needs a target point");
+  }
+  if (y.force_n < 0) c.Fail(key + ".force_n", "must be >= 0");
+  p.force_n = y.force_n;
+  return p;
+}
+
+}  // namespace
+
+const char* ToString(Condition c) {
+  switch (c) {
+    case Condition::kNone: return "none";
+    case Condition::kContact: return "contact";
+    case Condition::kTargetReached: return "target_reached";
+    case Condition::kGraspStable: return "grasp_stable";
+    case Condition::kMotionDone: return "motion_done";
+    case Condition::kDuration: return "duration";
+  }
+  return "?";
+}
+
+TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
+                       const std::vector<std::string>& fingers) {
+  TaskFileYaml y;
+  try {
+    YamlReadArchive::Load(root, source, "", &y);
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("task file ") + e.what());
+  }
+  const Checker c(source);
+  auto known_finger = [&](const std::string& key, const std::string& f) {
+    if (f != "all" && std::find(fingers.begin(), fingers.end(), f) == fingers.end()) {
+      c.Fail(key, "no finger '" + f + "' on this hand");
+    }
+  };
+  TaskFile t;
+  t.source = source;
+  t.name = y.name.empty() ? source : y.name;
+  for (const auto& [f, p] : y.grasp.approach) {
+    known_finger("grasp.approach." + f, f);
+    t.grasp.approach[f] = Eigen::Vector3d(p[0], p[1], p[2]);
+  }
+  t.grasp.approach_extension_m = y.grasp.approach_extension_m;
+  t.grasp.max_extensions = y.grasp.max_extensions;
+  t.grasp.release_after_stable_s = y.grasp.release_after_stable_s;
+  t.grasp.settle_s = y.grasp.settle_s;
+  t.grasp.timeout_s = y.grasp.timeout_s;
+  if (!t.grasp.approach.empty() && t.grasp.approach.size() != fingers.size()) {
+    c.Fail("grasp.approach", "give an approach point for every finger, or none");
+  }
+  for (const auto& f : y.gait.order) known_finger("gait.order", f);
+  if (y.gait.order.size() != fingers.size()) {
+    c.Fail("gait.order", "list every finger once (the exploring order)");
+  }
+  t.gait.order = y.gait.order;
+  t.gait.explore_timeout_s = y.gait.explore_timeout_s;
+  t.gait.rotate_timeout_s = y.gait.rotate_timeout_s;
+  t.gait.grip_timeout_s = y.gait.grip_timeout_s;
+  if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
+  for (size_t i = 0; i < y.tasks.size(); ++i) {
+    const CTaskYaml& ty = y.tasks[i];
+    const std::string key = "tasks[" + std::to_string(i) + "]";
+    CTask task;
+    task.name = ty.name.empty() ? key : ty.name;
+    task.type = c.Pick<std::string>(key + ".type", ty.type, {{"local", "local"}, {"gait", "gait"}});
+    task.done_when = ParseCondition(c, key + ".done_when", ty.done_when);
+    task.duration_s = ty.duration_s;
+    task.timeout_s = ty.timeout_s;
+    if (task.done_when == Condition::kDuration && !(ty.duration_s > 0)) {
+      c.Fail(key + ".duration_s", "done_when: duration needs duration_s > 0");
+    }
+    if (!(ty.timeout_s > 0)) c.Fail(key + ".timeout_s", "must be > 0");
+    for (const auto& [f, seq] : ty.fingers) {
+      known_finger(key + ".fingers." + f, f);
+      if (seq.empty()) c.Fail(key + ".fingers." + f, "an empty PTask sequence");
+      for (size_t k = 0; k < seq.size(); ++k) {
+        task.fingers[f].push_back(
+            ParsePTask(c, key + ".fingers." + f + "[" + std::to_string(k) + "]", seq[k]));
+      }
+    }
+    if (task.type == "local" && task.fingers.empty()) {
+      c.Fail(key + ".fingers", "a local task needs the PTasks of its fingers");
+    }
+    if (ty.object_motion) {
+      const MotionYaml& m = *ty.object_motion;
+      ObjectMotion om;
+      om.reference = c.Pick<ObjectMotion::Reference>(
+          key + ".object_motion.reference", m.reference,
+          {{"current", ObjectMotion::Reference::kCurrent}, {"start", ObjectMotion::Reference::kStart}});
+      om.axis = c.Pick<std::string>(key + ".object_motion.axis", m.axis,
+                                    {{"x", "x"}, {"y", "y"}, {"z", "z"}, {"task", "task"}});
+      const std::string units = c.Pick<std::string>(key + ".object_motion.angle_units",
+                                                    m.angle_units, {{"task", "task"}, {"rad", "rad"}});
+      om.angle = m.angle;
+      om.angle_in_task_units = units == "task";
+      om.max_angular_speed = m.max_angular_speed;
+      task.motion = om;
+    } else if (task.done_when == Condition::kMotionDone && task.type == "local") {
+      c.Fail(key + ".done_when", "motion_done needs an object_motion");
+    }
+    t.tasks.push_back(task);
+  }
+  return t;
+}
+
+TaskFile LoadTaskFile(const std::string& path, const std::vector<std::string>& fingers) {
+  return ParseTaskFile(LoadYamlFile(path), path, fingers);
+}
+
+}  // namespace dmpl

@@ -1,0 +1,102 @@
+#pragma once
+// The structural task description of the paper's Fig. 6, loaded from YAML (configs/tasks/):
+//  - FIstate: the state of a finger — does it touch the object, which role does it play;
+//  - PTask:   a primitive task of one finger — primitive, entry and exit states, transition
+//             condition, parameters;
+//  - CTask:   a complex task — a PTask sequence per finger plus the desired object motion and its
+//             interpolation, and the condition that ends it.
+// A task file is the grasp (approach points, Fig. 5) and the list of CTasks to run after it; a
+// `gait` CTask hands over to the regrasp statechart (Fig. 4). A new manipulation task is a new
+// YAML file, not new code.
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "components/controller/manipulation_controller.h"
+#include "components/runtime/params.h"
+
+namespace dmpl {
+
+enum class ContactState { kAny, kTouching, kFree };
+
+struct FIstate {
+  ContactState contact = ContactState::kAny;
+  std::optional<Role> role;  // nullopt: any role
+};
+
+enum class Condition {
+  kNone,           // never ends by itself (the CTask's condition ends it)
+  kContact,        // the finger touches
+  kTargetReached,  // the finger reached its target point
+  kGraspStable,    // the controller reports a stable grasp
+  kMotionDone,     // the object reached its goal
+  kDuration,       // duration_s elapsed
+};
+
+struct PTask {
+  Primitive primitive = Primitive::kComposite;
+  Role role = Role::kGrip;
+  FIstate entry, exit;
+  Condition until = Condition::kNone;
+  double duration_s = 0.0;
+  bool has_target = false;
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  // palm frame
+  double force_n = 0.0;                              // <= 0: the controller's default
+};
+
+struct ObjectMotion {
+  enum class Reference { kCurrent, kStart };
+  Reference reference = Reference::kCurrent;  // rotate from the commanded pose, or back to start
+  double angle = 0.0;                         // about `axis`
+  bool angle_in_task_units = true;            // angle is a multiple of task.angle (else rad)
+  std::string axis = "task";                  // x, y, z, or task (the experiment's task.axis)
+  double max_angular_speed = 0.0;             // rad/s; <= 0: task.angular_speed
+};
+
+struct CTask {
+  std::string name;
+  std::string type = "local";                 // local | gait
+  std::map<std::string, std::vector<PTask>> fingers;  // finger -> PTask sequence
+  std::optional<ObjectMotion> motion;
+  Condition done_when = Condition::kMotionDone;
+  double duration_s = 0.0;
+  double timeout_s = 30.0;
+};
+
+struct GraspSpec {
+  std::map<std::string, Eigen::Vector3d> approach;  // finger -> contact point to approach
+  double approach_extension_m = 0.01;  // reached without touching: reach this much further in
+  int max_extensions = 3;
+  double release_after_stable_s = 0.2;
+  double settle_s = 0.5;
+  double timeout_s = 10.0;
+};
+
+struct GaitSpec {
+  std::vector<std::string> order = {"R", "M", "F", "T"};  // the paper's cycle
+  double explore_timeout_s = 3.0;
+  double rotate_timeout_s = 5.0;
+  double grip_timeout_s = 2.0;
+};
+
+struct TaskFile {
+  std::string name;
+  std::string source;
+  GraspSpec grasp;
+  std::vector<CTask> tasks;
+  GaitSpec gait;
+};
+
+// Loads and validates a task file against the hand's finger names. Any problem is a ConfigError
+// naming the file and the key.
+TaskFile LoadTaskFile(const std::string& path, const std::vector<std::string>& fingers);
+TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
+                       const std::vector<std::string>& fingers);
+
+const char* ToString(Condition c);
+
+}  // namespace dmpl

@@ -1,0 +1,95 @@
+#include <gtest/gtest.h>
+
+#include "supervisor/regrasp_chart.h"
+
+namespace dmpl {
+namespace {
+
+// Records what the chart asks for; turns by `step` per Rotate until `goal`.
+class Recorder : public RegraspActions {
+ public:
+  void Explore(const std::string& f) override { calls.push_back("explore " + f); }
+  void Rotate(const std::string& g) override {
+    calls.push_back("rotate " + g);
+    turned += 1;
+  }
+  void Grip(const std::string& f) override { calls.push_back("grip " + f); }
+  void Finish() override { calls.push_back("finish"); }
+  bool GoalReached() const override { return turned >= goal; }
+  std::vector<std::string> calls;
+  int turned = 0;
+  int goal = 4;
+};
+
+TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
+  Recorder r;
+  RegraspChart chart(&r, {"R", "M", "F", "T"});
+  using E = RegraspEvent;
+  using S = RegraspState;
+  struct Step {
+    E event;
+    S state;
+    const char* action;
+  };
+  const std::vector<Step> script = {
+      {E::Begin, S::S2, "A4 R explore"},     {E::ExploreReady, S::S2, "A2 TFM rotate"},
+      {E::RotateDone, S::S1, "A3 R grip"},   {E::GripStable, S::S3, "A7 M explore"},
+      {E::ExploreReady, S::S3, "A5 TFR rotate"}, {E::RotateDone, S::S1, "A6 M grip"},
+      {E::GripStable, S::S4, "A10 F explore"},   {E::ExploreReady, S::S4, "A8 TMR rotate"},
+      {E::RotateDone, S::S1, "A9 F grip"},   {E::GripStable, S::S5, "A13 T explore"},
+      {E::ExploreReady, S::S5, "A11 FMR rotate"}, {E::RotateDone, S::S1, "A12 T grip"},
+      {E::GripStable, S::S1, "finish"},
+  };
+  for (const Step& s : script) {
+    EXPECT_TRUE(chart.Process(s.event)) << ToString(s.event);
+    EXPECT_TRUE(chart.is(s.state)) << ToString(s.event) << " -> " << ToString(chart.state());
+    EXPECT_EQ(chart.last_action(), s.action);
+  }
+  EXPECT_EQ(chart.regrasps(), 4);
+  EXPECT_EQ(r.calls.back(), "finish");
+  EXPECT_EQ(r.calls[1], "rotate TFM");
+}
+
+TEST(RegraspChartTest, EveryRoleChangePassesThroughS1AndOutOfOrderEventsAreIgnored) {
+  Recorder r;
+  r.goal = 100;
+  RegraspChart chart(&r, {"R", "M", "F", "T"});
+  EXPECT_FALSE(chart.Process(RegraspEvent::ExploreReady));  // nobody explores yet
+  EXPECT_FALSE(chart.Process(RegraspEvent::RotateDone));
+  EXPECT_TRUE(chart.is(RegraspState::S1));
+  chart.Process(RegraspEvent::Begin);
+  EXPECT_TRUE(chart.is(RegraspState::S2));
+  EXPECT_FALSE(chart.Process(RegraspEvent::RotateDone));  // not rotating yet
+  EXPECT_FALSE(chart.Process(RegraspEvent::GripStable));  // S2 cannot go to S3 directly
+  EXPECT_TRUE(chart.is(RegraspState::S2));
+  // A contingency aborts the step back to S1; the same finger explores next.
+  EXPECT_TRUE(chart.Process(RegraspEvent::Abort));
+  EXPECT_TRUE(chart.is(RegraspState::S1));
+  EXPECT_EQ(chart.next_explorer(), "R");
+  chart.Process(RegraspEvent::GripStable);
+  EXPECT_TRUE(chart.is(RegraspState::S2));
+}
+
+TEST(RegraspChartTest, LocalRotationIsA1AndTheOrderIsConfigurable) {
+  Recorder r;
+  RegraspChart chart(&r, {"T", "F", "M", "R"});
+  EXPECT_TRUE(chart.Process(RegraspEvent::LocalRotate));
+  EXPECT_EQ(chart.last_action(), "A1 TFMR rotate");
+  EXPECT_TRUE(chart.is(RegraspState::S1));
+  chart.Process(RegraspEvent::Begin);
+  EXPECT_EQ(chart.last_action(), "A4 T explore");
+  chart.Process(RegraspEvent::ExploreReady);
+  EXPECT_EQ(chart.last_action(), "A2 FMR rotate");
+}
+
+TEST(RegraspChartTest, DotExportHasEveryAction) {
+  Recorder r;
+  RegraspChart chart(&r, {"R", "M", "F", "T"});
+  const std::string dot = chart.ToDot();
+  for (int a = 1; a <= 13; ++a) {
+    EXPECT_NE(dot.find("A" + std::to_string(a) + " "), std::string::npos) << a;
+  }
+}
+
+}  // namespace
+}  // namespace dmpl

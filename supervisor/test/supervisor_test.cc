@@ -1,0 +1,194 @@
+#include <gtest/gtest.h>
+
+#include "supervisor/supervisor.h"
+
+namespace dmpl {
+namespace {
+
+const std::vector<std::string> kFingers = {"T", "F", "M", "R"};
+
+TaskFile Load(const std::string& name) {
+  return LoadTaskFile(std::string(DMPL_SOURCE_DIR) + "/configs/tasks/" + name + ".yaml", kFingers);
+}
+
+// Drives a Supervisor with scripted controller views.
+struct Driver {
+  explicit Driver(const std::string& task_file, TaskParams tp = {}) :
+      sup(kFingers, Load(task_file), tp, SupervisorParams{}) {
+    view.fingers.resize(4);
+    view.object.translation() = Eigen::Vector3d(0.07, 0.0, 0.015);
+  }
+  const SupervisorOutput& Tick(double dt = 0.01) {
+    view.time_s += dt;
+    ++view.seq;
+    const SupervisorOutput& out = sup.Step(view);
+    view.events.clear();
+    view.motion_done = false;
+    return out;
+  }
+  void Touch(bool all = true) {
+    for (auto& f : view.fingers) f.in_contact = all;
+  }
+  void Event(EventType type, int finger = -1) { view.events.push_back({type, finger, 0.0, ""}); }
+  // Runs the grasp of Fig. 5 to the start of the first task.
+  void Grasp() {
+    Tick();
+    Touch();
+    Tick();
+    view.grasp_stable = true;
+    for (int i = 0; i < 100 && !sup.regrasp().is(RegraspState::S1); ++i) Tick();
+    for (int i = 0; i < 100 && sup.grasp_state() != GraspState::Tasks; ++i) Tick();
+  }
+  Supervisor sup;
+  ControllerView view;
+};
+
+TEST(SupervisorTest, GraspChartFromHeldObjectToTasksToDone) {
+  Driver d("fig8_rotate");
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::ObjectHeld);
+  const SupervisorOutput& out = d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Approaching);
+  for (const auto& f : out.task.fingers) EXPECT_EQ(f.primitive, Primitive::kPosition);
+  // Three fingers touch: they switch to composite; the fourth reaches its point untouched and is
+  // sent further in.
+  for (int f = 0; f < 3; ++f) d.view.fingers[f].in_contact = true;
+  const Eigen::Vector3d r_point = d.Tick().task.fingers[3].target;
+  EXPECT_EQ(out.task.fingers[0].primitive, Primitive::kComposite);
+  EXPECT_EQ(out.task.fingers[3].primitive, Primitive::kPosition);
+  d.Event(EventType::kTargetReached, 3);
+  const Eigen::Vector3d further = d.Tick().task.fingers[3].target;
+  EXPECT_NEAR((further - r_point).norm(), 0.01, 1e-9);
+  EXPECT_LT((further - d.view.object.translation()).norm(),
+            (r_point - d.view.object.translation()).norm());
+  d.view.fingers[3].in_contact = true;
+  d.Tick();
+  d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Gripping);
+  d.view.grasp_stable = true;
+  d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Releasing);
+  bool released = false;
+  for (int i = 0; i < 30; ++i) released |= d.Tick().sim == SimRequest::kRelease;
+  EXPECT_TRUE(released);
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Settling);
+  for (int i = 0; i < 60; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  EXPECT_EQ(d.sup.task_name(), "rotate");
+  EXPECT_EQ(d.sup.regrasp().last_action(), "A1 TFMR rotate");
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.2, 1e-12);
+  const Eigen::AngleAxisd turn(out.task.object_target.linear());
+  EXPECT_NEAR(turn.angle(), 0.2, 1e-9);
+  EXPECT_NEAR(std::abs(turn.axis().x()), 1.0, 1e-9);
+  d.Event(EventType::kMotionDone);
+  d.Tick();
+  EXPECT_EQ(d.sup.task_name(), "rotate_back");
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.0, 1e-9);
+  EXPECT_TRUE(out.task.object_target.linear().isIdentity(1e-9));
+  d.Event(EventType::kMotionDone);
+  d.Tick();
+  EXPECT_EQ(d.sup.task_name(), "hold");
+  bool stopped = false;
+  for (int i = 0; i < 120; ++i) stopped |= d.Tick().sim == SimRequest::kStop;
+  EXPECT_TRUE(d.sup.finished());
+  EXPECT_TRUE(stopped);
+}
+
+TEST(SupervisorTest, LostGripContactPausesRegripsAndResumes) {
+  Driver d("fig8_rotate");
+  d.Grasp();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  d.view.object.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  d.view.fingers[1].in_contact = false;
+  d.Event(EventType::kContactLost, 1);
+  const SupervisorOutput& out = d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  EXPECT_EQ(d.sup.recoveries(), 1);
+  // The motion pauses where the object is; everyone grips.
+  EXPECT_TRUE(out.task.object_target.linear().isApprox(d.view.object.linear()));
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.05, 1e-9);
+  for (const auto& f : out.task.fingers) EXPECT_EQ(f.primitive, Primitive::kComposite);
+  d.view.fingers[1].in_contact = true;
+  for (int i = 0; i < 20; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  // The rotation resumes toward the same goal: 0.2 rad in all.
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.2, 1e-9);
+}
+
+TEST(SupervisorTest, SilentProcessHoldsTheGraspAndGraspLostFails) {
+  Driver d("fig8_rotate");
+  d.Grasp();
+  d.sup.SetProcessLost(true, "dmpl_ik");
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Holding);
+  EXPECT_TRUE(d.sup.holding());
+  EXPECT_NE(d.sup.note().find("dmpl_ik"), std::string::npos);
+  d.sup.SetProcessLost(false, "dmpl_ik");
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  d.Event(EventType::kGraspLost);
+  d.Tick();
+  EXPECT_TRUE(d.sup.failed());
+  bool stopped = false;
+  for (int i = 0; i < 100; ++i) stopped |= d.Tick().sim == SimRequest::kStop;
+  EXPECT_TRUE(stopped);
+}
+
+TEST(SupervisorTest, ApproachTimesOutWhenNothingIsTouched) {
+  Driver d("fig8_rotate");
+  for (int i = 0; i < 1200 && !d.sup.failed(); ++i) d.Tick();
+  EXPECT_TRUE(d.sup.failed());
+  EXPECT_NE(d.sup.note().find("did not all touch"), std::string::npos);
+}
+
+TEST(SupervisorTest, GaitRunsTheRegraspCycleUntilTheGoal) {
+  TaskParams tp;
+  tp.angle = 0.35;  // two steps of 10 deg and a partial one
+  Driver d("fig10_gait", tp);
+  d.Grasp();
+  ASSERT_EQ(d.sup.task_name(), "gait");
+  std::vector<std::string> actions;
+  for (int i = 0; i < 2000 && d.sup.task_name() == "gait"; ++i) {
+    const RegraspChart& chart = d.sup.regrasp();
+    if (chart.exploring()) {
+      const int explorer = d.sup.fingers()[0] == chart.next_explorer() ? 0 : -1;
+      (void)explorer;
+      for (int f = 0; f < 4; ++f) {
+        if (d.sup.roles()[f] == Role::kExplore) d.Event(EventType::kTargetReached, f);
+      }
+    } else if (chart.rotating()) {
+      d.Event(EventType::kMotionDone);
+    }
+    const std::string before = chart.last_action();
+    d.Tick();
+    if (chart.last_action() != before) actions.push_back(chart.last_action());
+  }
+  EXPECT_EQ(actions, (std::vector<std::string>{"A2 TFM rotate", "A3 R grip", "A7 M explore",
+                                               "A5 TFR rotate", "A6 M grip", "A10 F explore",
+                                               "A8 TMR rotate", "A9 F grip", "finish"}));
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.35, 1e-9);
+  EXPECT_EQ(d.sup.regrasp().regrasps(), 3);
+  EXPECT_EQ(d.sup.task_name(), "hold");
+}
+
+TEST(SupervisorTest, ExplorerGoesBackAgainstTheRotationToAComfortablePoint) {
+  Driver d("fig10_gait");
+  // Tips where a grasp of the 2.5 cm sphere puts them.
+  const Eigen::Vector3d c(0.07, 0.0, 0.015);
+  d.view.fingers[0].tip = c + Eigen::Vector3d(0, 0, -0.037);
+  d.view.fingers[1].tip = c + Eigen::Vector3d(0, 0.037, 0);
+  d.view.fingers[2].tip = c + Eigen::Vector3d(0, 0, 0.037);
+  d.view.fingers[3].tip = c + Eigen::Vector3d(0, -0.037, 0);
+  d.Grasp();
+  const SupervisorOutput& out = d.Tick();
+  ASSERT_EQ(d.sup.regrasp().last_action(), "A4 R explore");
+  const FingerTask& r = out.task.fingers[3];
+  EXPECT_EQ(r.role, Role::kExplore);
+  EXPECT_EQ(r.primitive, Primitive::kHybrid);
+  EXPECT_NEAR(r.force_n, 0.1, 1e-12);
+  // 1.5 steps back about +x: R at (0, -0.037, 0) from the centre turns by -15 deg.
+  const Eigen::Vector3d expected =
+      c + Eigen::AngleAxisd(-1.5 * 0.17453292519943295, Eigen::Vector3d::UnitX()) *
+              Eigen::Vector3d(0, -0.037, 0);
+  EXPECT_LT((r.target - expected).norm(), 1e-9);
+}
+
+}  // namespace
+}  // namespace dmpl
