@@ -29,7 +29,9 @@ struct ControllerParams {
   double grip_force_n = 0.8;             // nominal normal force of a grip finger
   double min_grip_force_n = 0.4;
   double explore_force_n = 0.1;          // exploration finger (the paper's 0.1 N)
-  ForceGains force;
+  ForceGains force;                      // grip fingers (composite)
+  ForceGains explore_force{0.002, 0.15, 0.015};  // exploration (hybrid): a light touch must
+                                                 // follow the object's small motions closely
   // Hybrid control (exploration): tangential motion toward the finger's target point.
   double hybrid_tangential_gain = 2.0;   // 1/s
   double hybrid_max_speed = 0.02;        // m/s
@@ -58,6 +60,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(min_grip_force_n));
     a->Visit(DMPL_NVP(explore_force_n));
     a->Visit(DMPL_NVP(force));
+    a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));
     a->Visit(DMPL_NVP(hybrid_max_speed));
     a->Visit(DMPL_NVP(approach_speed));

@@ -32,8 +32,10 @@ void ControllerParams::Validate(const std::string& source) const {
     fail("min_grip_force_n", "must be in [0, grip_force_n]");
   }
   if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
-  if (force.kp < 0 || force.ki < 0 || !(force.integral_limit > 0)) {
-    fail("force", "kp, ki must be >= 0 and integral_limit > 0");
+  for (const auto& [key, g] : {std::pair{"force", force}, {"explore_force", explore_force}}) {
+    if (g.kp < 0 || g.ki < 0 || !(g.integral_limit > 0)) {
+      fail(key, "kp, ki must be >= 0 and integral_limit > 0");
+    }
   }
   if (contact_debounce_ticks < 1) fail("contact_debounce_ticks", "must be >= 1");
   if (!(approach_speed > 0) || !(hybrid_max_speed > 0)) fail("approach_speed", "speeds must be > 0");
@@ -163,8 +165,8 @@ void ManipulationController::ApplyTask(const TaskInput& task,
   }
 }
 
-double ManipulationController::ForceTerm(FingerState* s, double desired, double measured) {
-  const ForceGains& g = params_.force;
+double ManipulationController::ForceTerm(FingerState* s, const ForceGains& g, double desired,
+                                         double measured) {
   const double e = desired - measured;
   s->integral = std::clamp(s->integral + g.ki * e * dt_, -g.integral_limit, g.integral_limit);
   return std::clamp(g.kp * e + s->integral, -g.integral_limit, g.integral_limit);
@@ -290,7 +292,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         direction.normalize();
         if (!direction.allFinite()) direction.setZero();
         s.last_direction = direction;
-        s.target = s.anchor + displacement + direction * ForceTerm(&s, desired, in.tips[f].force);
+        s.target = s.anchor + displacement + direction * ForceTerm(&s, params_.force, desired, in.tips[f].force);
         o.desired_force = desired;
         break;
       }
@@ -303,9 +305,17 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         normal.normalize();
         if (!normal.allFinite()) normal.setZero();
         s.last_direction = normal;
+        // Anchored like a grip finger, but only in the tangent plane: the anchor slides toward
+        // the target point; along the normal it follows the measured tip, and the force PI sets
+        // how far in the target lies.
+        if (!s.anchored) {
+          s.anchor = tips[f];
+          s.anchored = true;
+        }
+        s.anchor -= normal * (s.anchor - tips[f]).dot(normal);
         Eigen::Vector3d tangential = Eigen::Vector3d::Zero();
         if (s.task.has_target) {
-          const Eigen::Vector3d to_goal = s.task.target - tips[f];
+          const Eigen::Vector3d to_goal = s.task.target - s.anchor;
           const Eigen::Vector3d in_plane = to_goal - to_goal.dot(normal) * normal;
           tangential = ClampNorm(params_.hybrid_tangential_gain * dt_ * in_plane,
                                  params_.hybrid_max_speed * dt_);
@@ -315,7 +325,8 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
           }
         }
         const double desired = s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n;
-        s.target = tips[f] + tangential + normal * ForceTerm(&s, desired, in.tips[f].force);
+        s.anchor += tangential;
+        s.target = s.anchor + normal * ForceTerm(&s, params_.explore_force, desired, in.tips[f].force);
         o.desired_force = desired;
         break;
       }

@@ -132,7 +132,7 @@ class ManipulationController {
   void ApplyTask(const TaskInput& task, const std::vector<Eigen::Vector3d>& tips);
   void UpdateObjectEstimate(const SensedInput& in);
   void UpdateContacts(const SensedInput& in);
-  double ForceTerm(FingerState* s, double desired, double measured);
+  double ForceTerm(FingerState* s, const ForceGains& gains, double desired, double measured);
   void Emit(EventType type, int finger, double value, std::string text);
 
   const HandKinematics& kin_;

@@ -13,6 +13,9 @@ Definitions (DESIGN.md section 6; the run's config section `metrics` sets the th
 - final_orientation_error_rad: angle between the final true orientation and the last commanded
   object orientation (the orientation at task begin when nothing was commanded).
 - grip_force_total_n: mean over time of the summed fingertip normal forces while held.
+- exploration_force_mean_n / _rms_error_n: the truth force of exploring fingers against the
+  force asked of them, from 0.25 s after a finger became an explorer (the grip-to-light-touch
+  transient is not the exploration).
 - contacts_lost: grip fingers (per the supervisor's roles; every finger without a supervisor)
   whose contact disappears for longer than contact_loss_s while the object is held.
 """
@@ -170,7 +173,7 @@ def _tracking_error(data, t, rotation, i_begin):
     return float(np.abs(rotation - commanded).max())
 
 
-def _exploration(data, t_begin):
+def _exploration(data, t_begin, transient_s=0.25):
     """Force of exploring fingers against the force they were asked for (Fig. 9)."""
     ctl, tact = data.controller, data.tactile
     if not len(ctl) or not len(tact):
@@ -180,10 +183,20 @@ def _exploration(data, t_begin):
     idx = np.clip(np.searchsorted(ctl.t, times, side="right") - 1, 0, len(ctl) - 1)
     roles, desired = ctl["role"][idx], ctl["desired_force"][idx]
     force = tact["force"][sel]
-    mask = roles == ROLE_EXPLORE
+    exploring = roles == ROLE_EXPLORE
+    mask = np.zeros_like(exploring)
+    for f in range(exploring.shape[1]):
+        since = None
+        for i, t in enumerate(times):
+            if not exploring[i, f]:
+                since = None
+                continue
+            since = t if since is None else since
+            mask[i, f] = t - since >= transient_s
     if not mask.any():
         return {}
     err = force[mask] - desired[mask]
+    dt = float(np.median(np.diff(times))) if len(times) > 1 else 0.0
     return {"exploration_force_mean_n": float(force[mask].mean()),
             "exploration_force_rms_error_n": float(np.sqrt((err ** 2).mean())),
-            "exploration_time_s": float(mask.any(axis=1).sum() * np.median(np.diff(times)))}
+            "exploration_time_s": float(exploring.any(axis=1).sum() * dt)}
