@@ -83,7 +83,10 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
     transitions_.push_back(line + "--> " + ToString(t.row->to));
     out_.changed = true;
   };
-  grasp_.set_log(log);
+  grasp_.set_log([this, log](const std::string& chart, const GraspChart::Transition& t) {
+    if (t.row != nullptr && t.row->to != t.from) state_since_ = now_;  // timeouts count from here
+    log(chart, t);
+  });
   regrasp_.set_log(log);
 }
 
@@ -607,10 +610,7 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
     default:
       break;
   }
-  if (grasp_.state() != before) {
-    state_since_ = now_;
-    out_.changed = true;
-  }
+  if (grasp_.state() != before) out_.changed = true;
   if (out_.changed) last_action_ = regrasp_.last_action();
   return out_;
 }

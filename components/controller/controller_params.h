@@ -19,8 +19,15 @@ struct ForceGains {
 // Section `controller`. Gains are hand-set defaults; tools/dmpl calibrate can fit them.
 struct ControllerParams {
   // Position planner (equations 1-2) and the object reference (Fig. 1).
-  double position_gain = 1.0;            // P: share of the contact displacement applied at once
-  double position_integral_gain = 5.0;   // I: 1/s, into the finger's anchor
+  // The contact displacement of eq. 2 splits exactly into the object's rotation about its centre
+  // and its translation. The orientation estimate is clean; the position carries the camera's
+  // noise (0.5 cm in the paper), which a stiff finger would turn straight into force noise: the
+  // translation gets the lower gains.
+  double position_gain = 1.0;            // P on the rotation part: share applied at once
+  double position_integral_gain = 5.0;   // I on the rotation part: 1/s, into the finger's anchor
+  double translation_gain = 0.2;         // P on the translation part
+  double translation_integral_gain = 1.0;  // I on the translation part, 1/s
+  double max_anchor_offset_m = 0.004;    // how far a grip finger's anchor may lead its tip
   double max_linear_speed = 0.01;        // m/s of the object reference
   double max_angular_speed = 0.25;       // rad/s of the object reference
   double object_position_time_constant_s = 0.1;   // low-pass of the noisy object position
@@ -29,6 +36,7 @@ struct ControllerParams {
   double grip_force_n = 0.8;             // nominal normal force of a grip finger
   double min_grip_force_n = 0.4;
   double explore_force_n = 0.1;          // exploration finger (the paper's 0.1 N)
+  double role_change_s = 0.3;            // a finger's desired force ramps to its new role's
   ForceGains force;                      // grip fingers (composite)
   ForceGains explore_force{0.002, 0.15, 0.015};  // exploration (hybrid): a light touch must
                                                  // follow the object's small motions closely
@@ -40,7 +48,8 @@ struct ControllerParams {
   double target_tolerance_m = 0.002;
   // Contacts and events.
   double contact_threshold_n = 0.03;     // sensed force above which a fingertip touches
-  int contact_debounce_ticks = 5;        // a contact change must persist this long
+  int contact_debounce_ticks = 5;        // a new contact must persist this long...
+  int contact_loss_ticks = 40;           // ...a loss this long (rolling contacts flicker)
   double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
   double motion_done_m = 0.004;
   double tracking_error_rad = 0.15;      // TRACKING_ERROR event above this
@@ -52,6 +61,9 @@ struct ControllerParams {
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(position_gain));
     a->Visit(DMPL_NVP(position_integral_gain));
+    a->Visit(DMPL_NVP(translation_gain));
+    a->Visit(DMPL_NVP(translation_integral_gain));
+    a->Visit(DMPL_NVP(max_anchor_offset_m));
     a->Visit(DMPL_NVP(max_linear_speed));
     a->Visit(DMPL_NVP(max_angular_speed));
     a->Visit(DMPL_NVP(object_position_time_constant_s));
@@ -59,6 +71,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(grip_force_n));
     a->Visit(DMPL_NVP(min_grip_force_n));
     a->Visit(DMPL_NVP(explore_force_n));
+    a->Visit(DMPL_NVP(role_change_s));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));
@@ -67,6 +80,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(target_tolerance_m));
     a->Visit(DMPL_NVP(contact_threshold_n));
     a->Visit(DMPL_NVP(contact_debounce_ticks));
+    a->Visit(DMPL_NVP(contact_loss_ticks));
     a->Visit(DMPL_NVP(motion_done_rad));
     a->Visit(DMPL_NVP(motion_done_m));
     a->Visit(DMPL_NVP(tracking_error_rad));

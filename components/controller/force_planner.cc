@@ -9,7 +9,8 @@
 namespace dmpl {
 
 ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
-                         const std::vector<bool>& grip, double nominal_n, double minimum_n) {
+                         const std::vector<bool>& grip, double nominal_n, double minimum_n,
+                         const Eigen::Vector3d& external) {
   DMPL_DEMAND(contacts.size() == grip.size());
   ForcePlan plan;
   plan.forces.resize(contacts.size());
@@ -32,12 +33,13 @@ ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
     for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), nominal_n};
     return plan;
   }
-  // Least squares: the smallest change to the nominal forces that zeroes the net force,
-  // f = f0 - U^T (U U^T)^+ U f0 (U may be rank-deficient: contacts in a plane or a line).
+  // Least squares: the smallest change to the nominal forces that makes the net force zero
+  // (U f = -external), f = f0 - U^T (U U^T)^+ (U f0 + external); U may be rank-deficient
+  // (contacts in a plane or on a line), and the part of `external` it cannot reach stays.
   const Eigen::VectorXd f0 = Eigen::VectorXd::Constant(n, nominal_n);
   const Eigen::Matrix3d uut = u * u.transpose();
   const Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix3d> cod(uut);
-  Eigen::VectorXd f = f0 - u.transpose() * cod.solve(u * f0);
+  Eigen::VectorXd f = f0 - u.transpose() * cod.solve(u * f0 + external);
   // Forces proportional to the distances to the centroid balance exactly (sum of centroid - p_i
   // is zero), and are all positive: add as much of them as the minimum needs.
   double alpha = 0.0;

@@ -22,7 +22,10 @@ struct ForcePlan {
 };
 
 // `contacts`: contact positions (palm frame); `grip`: which take part in the balance.
+// `external`: a known force on the object the grip forces must cancel too (the exploration
+// finger's fixed small push); zero in the paper.
 ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
-                         const std::vector<bool>& grip, double nominal_n, double minimum_n);
+                         const std::vector<bool>& grip, double nominal_n, double minimum_n,
+                         const Eigen::Vector3d& external = Eigen::Vector3d::Zero());
 
 }  // namespace dmpl

@@ -37,7 +37,9 @@ void ControllerParams::Validate(const std::string& source) const {
       fail(key, "kp, ki must be >= 0 and integral_limit > 0");
     }
   }
-  if (contact_debounce_ticks < 1) fail("contact_debounce_ticks", "must be >= 1");
+  if (contact_debounce_ticks < 1 || contact_loss_ticks < 1) {
+    fail("contact_debounce_ticks", "debounce and loss ticks must be >= 1");
+  }
   if (!(approach_speed > 0) || !(hybrid_max_speed > 0)) fail("approach_speed", "speeds must be > 0");
 }
 
@@ -108,7 +110,8 @@ void ManipulationController::UpdateContacts(const SensedInput& in) {
       s.contact_count = 0;
       continue;
     }
-    if (++s.contact_count < params_.contact_debounce_ticks) continue;
+    const int needed = raw ? params_.contact_debounce_ticks : params_.contact_loss_ticks;
+    if (++s.contact_count < needed) continue;
     s.contact = raw;
     s.contact_count = 0;
     if (raw) {
@@ -149,6 +152,8 @@ void ManipulationController::ApplyTask(const TaskInput& task,
     }
     if (primitive_changed || next.role != s.task.role) {
       s.anchored = false;
+      s.ramp_from = s.desired;
+      s.ramp_since = now_;
       // Who grips changed: the grasp has to prove itself stable again.
       stable_sent_ = false;
       stable_since_ = -1.0;
@@ -163,6 +168,12 @@ void ManipulationController::ApplyTask(const TaskInput& task,
     }
     s.task = next;
   }
+}
+
+double ManipulationController::Ramp(const FingerState& s, double role_force) const {
+  if (s.ramp_since < 0 || params_.role_change_s <= 0) return role_force;
+  const double a = std::clamp((now_ - s.ramp_since) / params_.role_change_s, 0.0, 1.0);
+  return s.ramp_from + a * (role_force - s.ramp_from);
 }
 
 double ManipulationController::ForceTerm(FingerState* s, const ForceGains& g, double desired,
@@ -185,6 +196,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
     dt_ = in.time_s - last_time_;
   }
   last_time_ = in.time_s;
+  now_ = in.time_s;
   const int nf = kin_.num_fingers();
   std::vector<Eigen::Vector3d> tips(nf);
   for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, in.q);
@@ -224,8 +236,20 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
     in_grip[f] = fingers_[f].task.role == Role::kGrip &&
                  fingers_[f].task.primitive == Primitive::kComposite && fingers_[f].contact;
   }
-  const ForcePlan plan =
-      PlanGripForces(contacts, in_grip, params_.grip_force_n, params_.min_grip_force_n);
+  // Exploring fingers push lightly along their contact normals; that push is known, so the grip
+  // forces cancel it too.
+  Eigen::Vector3d external = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> normals(nf, Eigen::Vector3d::Zero());
+  for (int f = 0; f < nf; ++f) {
+    const FingerState& s = fingers_[f];
+    if (s.contact) normals[f] = (in.tips[f].position - tips[f]).normalized();
+    if (s.task.primitive == Primitive::kHybrid && s.contact && normals[f].allFinite()) {
+      const double force = s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n;
+      external += Ramp(s, force) * normals[f];
+    }
+  }
+  const ForcePlan plan = PlanGripForces(contacts, in_grip, params_.grip_force_n,
+                                        params_.min_grip_force_n, external);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
   const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   const Eigen::Vector3d centre =
@@ -276,8 +300,11 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         if (moving && s.task.role == Role::kGrip) {
           s.anchor = reference_step * s.anchor;
           const Eigen::Vector3d error = MoveWithObject(estimate_, motion, tips[f]) - tips[f];
-          s.anchor += params_.position_integral_gain * dt_ * error;
-          displacement = params_.position_gain * error;
+          const Eigen::Vector3d translation = reference_.translation() - estimate_.translation();
+          const Eigen::Vector3d rotation = error - translation;
+          s.anchor += dt_ * (params_.position_integral_gain * rotation +
+                             params_.translation_integral_gain * translation);
+          displacement = params_.position_gain * rotation + params_.translation_gain * translation;
         }
         // Force: PI along the planned direction (toward the grip centroid).
         Eigen::Vector3d direction = plan.forces[f].direction;
@@ -288,11 +315,20 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
           desired = s.task.role == Role::kGrip ? params_.grip_force_n : params_.explore_force_n;
         }
         if (s.task.force_n > 0) desired = s.task.force_n;
+        desired = Ramp(s, desired);
         if (direction.norm() < 1e-9) direction = s.last_direction;
         direction.normalize();
         if (!direction.allFinite()) direction.setZero();
         s.last_direction = direction;
-        s.target = s.anchor + displacement + direction * ForceTerm(&s, params_.force, desired, in.tips[f].force);
+        // Along the force direction the force loop alone decides how far in the target lies: the
+        // anchor follows the tip there, or the position and force integrators would wind up
+        // against each other.
+        s.anchor -= direction * (s.anchor - tips[f]).dot(direction);
+        // Sideways the anchor may lead the tip by a bounded offset: a tip that cannot follow
+        // (it rolls, or the object resists) must not wind the anchor up without end.
+        s.anchor = tips[f] + ClampNorm(s.anchor - tips[f], params_.max_anchor_offset_m);
+        s.target = s.anchor + displacement +
+                   direction * ForceTerm(&s, params_.force, desired, in.tips[f].force);
         o.desired_force = desired;
         break;
       }
@@ -324,7 +360,8 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
             Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
           }
         }
-        const double desired = s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n;
+        const double desired =
+            Ramp(s, s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n);
         s.anchor += tangential;
         s.target = s.anchor + normal * ForceTerm(&s, params_.explore_force, desired, in.tips[f].force);
         o.desired_force = desired;
@@ -332,6 +369,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
       }
     }
     o.target = s.target;
+    s.desired = o.desired_force;
   }
 
   // Events about the grasp and the motion.

@@ -124,6 +124,9 @@ class ManipulationController {
     bool has_target = false;
     bool reached = false;
     bool anchored = false;       // composite: the anchor is set
+    double desired = 0.0;        // the force asked last tick
+    double ramp_from = 0.0;      // ...and at the last role change, ramped away from
+    double ramp_since = -1.0;
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     Eigen::Vector3d last_direction = Eigen::Vector3d::Zero();
   };
@@ -133,11 +136,15 @@ class ManipulationController {
   void UpdateObjectEstimate(const SensedInput& in);
   void UpdateContacts(const SensedInput& in);
   double ForceTerm(FingerState* s, const ForceGains& gains, double desired, double measured);
+  // The force a finger should get now: its role's force, reached gradually after a role change
+  // so that the others' plan changes smoothly (a grip finger that lets go is a step load).
+  double Ramp(const FingerState& s, double role_force) const;
   void Emit(EventType type, int finger, double value, std::string text);
 
   const HandKinematics& kin_;
   ControllerParams params_;
   double dt_;
+  double now_ = 0.0;
   double last_time_ = -1.0;
   std::vector<FingerState> fingers_;
   ControllerOutput out_;

@@ -68,8 +68,19 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     if problems:
         summary["problems"] = problems
     with open(out / "summary.json", "w") as f:
-        json.dump(summary, f, indent=2, sort_keys=True)
+        json.dump(_plain(summary), f, indent=2, sort_keys=True)
     return summary, out
+
+
+def _plain(value):
+    """numpy scalars and containers -> JSON's types."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if hasattr(value, "item"):
+        return value.item()
+    return value
 
 
 HEADLINE = ["status", "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
