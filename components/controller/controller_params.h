@@ -28,6 +28,9 @@ struct ControllerParams {
   double translation_gain = 0.2;         // P on the translation part
   double translation_integral_gain = 1.0;  // I on the translation part, 1/s
   double max_anchor_offset_m = 0.004;    // how far a grip finger's anchor may lead its tip
+  double translation_force_gain = 0.0;   // N/m: net grip force per metre of position error
+  double max_translation_force_n = 0.4;
+  bool rolling_feedforward = false;      // anchors turn by the rolling ratio, not rigidly
   double max_linear_speed = 0.01;        // m/s of the object reference
   double max_angular_speed = 0.25;       // rad/s of the object reference
   double object_position_time_constant_s = 0.1;   // low-pass of the noisy object position
@@ -64,6 +67,9 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(translation_gain));
     a->Visit(DMPL_NVP(translation_integral_gain));
     a->Visit(DMPL_NVP(max_anchor_offset_m));
+    a->Visit(DMPL_NVP(translation_force_gain));
+    a->Visit(DMPL_NVP(max_translation_force_n));
+    a->Visit(DMPL_NVP(rolling_feedforward));
     a->Visit(DMPL_NVP(max_linear_speed));
     a->Visit(DMPL_NVP(max_angular_speed));
     a->Visit(DMPL_NVP(object_position_time_constant_s));

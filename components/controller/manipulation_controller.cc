@@ -152,8 +152,13 @@ void ManipulationController::ApplyTask(const TaskInput& task,
     }
     if (primitive_changed || next.role != s.task.role) {
       s.anchored = false;
+      // Ramp only between the two force-controlled primitives (grip <-> explore); a finger
+      // that starts pressing from position control gets its force at once.
+      const auto forced = [](Primitive p) {
+        return p == Primitive::kComposite || p == Primitive::kHybrid;
+      };
+      s.ramp_since = forced(s.task.primitive) && forced(next.primitive) ? now_ : -1.0;
       s.ramp_from = s.desired;
-      s.ramp_since = now_;
       // Who grips changed: the grasp has to prove itself stable again.
       stable_sent_ = false;
       stable_since_ = -1.0;
@@ -248,6 +253,13 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
       external += Ramp(s, force) * normals[f];
     }
   }
+  // Along a grip force the force loop wins over any position correction, so the object's
+  // translation is corrected through the force plan itself: the grip forces add up to a net
+  // force toward the reference instead of zero (a spring on the object's position).
+  if (moving && has_estimate_) {
+    const Eigen::Vector3d error = reference_.translation() - estimate_.translation();
+    external -= ClampNorm(params_.translation_force_gain * error, params_.max_translation_force_n);
+  }
   const ForcePlan plan = PlanGripForces(contacts, in_grip, params_.grip_force_n,
                                         params_.min_grip_force_n, external);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
@@ -298,7 +310,20 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         }
         Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
         if (moving && s.task.role == Role::kGrip) {
-          s.anchor = reference_step * s.anchor;
+          // Rolling: a fingertip that rolls on the object turns about its centre by
+          // |contact - centre| / |tip - centre| of the object's turn (both seen, not known).
+          double roll = 1.0;
+          if (s.contact && params_.rolling_feedforward) {
+            const double rc = (in.tips[f].position - estimate_.translation()).norm();
+            const double rt = (tips[f] - estimate_.translation()).norm();
+            if (rt > 1e-6) roll = std::clamp(rc / rt, 0.3, 1.0);
+          }
+          const Eigen::AngleAxisd turn(reference_step.linear());
+          Eigen::Isometry3d rolled = Eigen::Isometry3d::Identity();
+          rolled.linear() = Eigen::AngleAxisd(roll * turn.angle(), turn.axis()).toRotationMatrix();
+          rolled.translation() = reference_step.translation() + reference_.translation() -
+                                 rolled.linear() * reference_.translation();
+          s.anchor = rolled * s.anchor;
           const Eigen::Vector3d error = MoveWithObject(estimate_, motion, tips[f]) - tips[f];
           const Eigen::Vector3d translation = reference_.translation() - estimate_.translation();
           const Eigen::Vector3d rotation = error - translation;
@@ -320,12 +345,6 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
         direction.normalize();
         if (!direction.allFinite()) direction.setZero();
         s.last_direction = direction;
-        // Along the force direction the force loop alone decides how far in the target lies: the
-        // anchor follows the tip there, or the position and force integrators would wind up
-        // against each other.
-        s.anchor -= direction * (s.anchor - tips[f]).dot(direction);
-        // Sideways the anchor may lead the tip by a bounded offset: a tip that cannot follow
-        // (it rolls, or the object resists) must not wind the anchor up without end.
         s.anchor = tips[f] + ClampNorm(s.anchor - tips[f], params_.max_anchor_offset_m);
         s.target = s.anchor + displacement +
                    direction * ForceTerm(&s, params_.force, desired, in.tips[f].force);
