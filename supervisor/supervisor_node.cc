@@ -11,6 +11,7 @@
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
 #include "components/runtime/node.h"
+#include "components/runtime/node_factories.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/sim_control_t.hpp"
@@ -188,6 +189,17 @@ Loaded Load(const Config& config) {
 }  // namespace
 }  // namespace dmpl
 
+namespace dmpl {
+
+std::unique_ptr<Node> MakeSupervisorNode(const NodeContext& ctx) {
+  Loaded l = Load(ctx.config);
+  return std::make_unique<SupervisorNode>(ctx, l.fingers, std::move(l.tasks),
+                                                l.task_params, l.params);
+}
+
+}  // namespace dmpl
+
+#ifndef DMPL_NO_MAIN
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const bool dot = std::strcmp(argv[i], "--dot") == 0;
@@ -202,11 +214,7 @@ int main(int argc, char** argv) {
               << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
     return 0;
   }
-  return dmpl::RunNodeMain(
-      argc, argv, "dmpl_supervisor", "Reads sections: run, hand, task, supervisor.",
-      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
-        dmpl::Loaded l = dmpl::Load(ctx.config);
-        return std::make_unique<dmpl::SupervisorNode>(ctx, l.fingers, std::move(l.tasks),
-                                                      l.task_params, l.params);
-      });
+  return dmpl::RunNodeMain(argc, argv, "dmpl_supervisor", "Reads sections: run, hand, task, supervisor.",
+                           dmpl::MakeSupervisorNode);
 }
+#endif

@@ -7,6 +7,7 @@
 #include "components/runtime/channels.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
+#include "components/runtime/node_factories.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/finger_targets_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
@@ -206,15 +207,22 @@ class ControllerNode : public Node {
 }  // namespace
 }  // namespace dmpl
 
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(
-      argc, argv, "dmpl_controller", "Reads sections: run, hand, controller.",
-      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
-        dmpl::HandParams hand;
-        dmpl::ControllerParams params;
-        ctx.config.Load("hand", &hand);
-        ctx.config.Load("controller", &params);
-        params.Validate(ctx.config.source());
-        return std::make_unique<dmpl::ControllerNode>(ctx, dmpl::HandModel::Load(hand), params);
-      });
+namespace dmpl {
+
+std::unique_ptr<Node> MakeControllerNode(const NodeContext& ctx) {
+  HandParams hand;
+  ControllerParams params;
+  ctx.config.Load("hand", &hand);
+  ctx.config.Load("controller", &params);
+  params.Validate(ctx.config.source());
+  return std::make_unique<ControllerNode>(ctx, HandModel::Load(hand), params);
 }
+
+}  // namespace dmpl
+
+#ifndef DMPL_NO_MAIN
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(argc, argv, "dmpl_controller", "Reads sections: run, hand, controller.",
+                           dmpl::MakeControllerNode);
+}
+#endif

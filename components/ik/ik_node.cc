@@ -8,6 +8,7 @@
 #include "components/runtime/clock.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
+#include "components/runtime/node_factories.h"
 #include "dmpl/finger_targets_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/ik_status_t.hpp"
@@ -116,15 +117,22 @@ class IkNode : public Node {
 }  // namespace
 }  // namespace dmpl
 
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(
-      argc, argv, "dmpl_ik", "Reads sections: run, hand, ik.",
-      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
-        dmpl::HandParams hand;
-        dmpl::IkParams ik;
-        ctx.config.Load("hand", &hand);
-        ctx.config.Load("ik", &ik);
-        ik.Validate(ctx.config.source());
-        return std::make_unique<dmpl::IkNode>(ctx, dmpl::HandModel::Load(hand), ik);
-      });
+namespace dmpl {
+
+std::unique_ptr<Node> MakeIkNode(const NodeContext& ctx) {
+  HandParams hand;
+  IkParams ik;
+  ctx.config.Load("hand", &hand);
+  ctx.config.Load("ik", &ik);
+  ik.Validate(ctx.config.source());
+  return std::make_unique<IkNode>(ctx, HandModel::Load(hand), ik);
 }
+
+}  // namespace dmpl
+
+#ifndef DMPL_NO_MAIN
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(argc, argv, "dmpl_ik", "Reads sections: run, hand, ik.",
+                           dmpl::MakeIkNode);
+}
+#endif

@@ -2,6 +2,7 @@
 // answering each sensed hand state tick in lockstep. Reads sections: run, hand, joint_player.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
+#include "components/runtime/node_factories.h"
 #include "dmpl/joint_cmd_t.hpp"
 #include "dmpl/joint_state_t.hpp"
 #include "dmpl/sim_control_t.hpp"
@@ -60,15 +61,22 @@ class JointPlayerNode : public Node {
 }  // namespace
 }  // namespace dmpl
 
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(
-      argc, argv, "dmpl_joint_player", "Reads sections: run, hand, joint_player.",
-      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
-        dmpl::HandParams hand;
-        dmpl::JointPlayerParams params;
-        ctx.config.Load("hand", &hand);
-        ctx.config.Load("joint_player", &params);
-        static const dmpl::HandModel model = dmpl::HandModel::Load(hand);
-        return std::make_unique<dmpl::JointPlayerNode>(ctx, model, params);
-      });
+namespace dmpl {
+
+std::unique_ptr<Node> MakeJointPlayerNode(const NodeContext& ctx) {
+  HandParams hand;
+  JointPlayerParams params;
+  ctx.config.Load("hand", &hand);
+  ctx.config.Load("joint_player", &params);
+  static const HandModel model = HandModel::Load(hand);
+  return std::make_unique<JointPlayerNode>(ctx, model, params);
 }
+
+}  // namespace dmpl
+
+#ifndef DMPL_NO_MAIN
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(argc, argv, "dmpl_joint_player", "Reads sections: run, hand, joint_player.",
+                           dmpl::MakeJointPlayerNode);
+}
+#endif

@@ -1,6 +1,7 @@
 // dmpl_noise: ground truth in, sensed channels out (DESIGN.md §1). Reads sections `run`, `noise`.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
+#include "components/runtime/node_factories.h"
 #include "dmpl/heartbeat_t.hpp"
 #include "sim_process/noise/noise_injector.h"
 
@@ -50,13 +51,20 @@ class NoiseNode : public Node {
 }  // namespace
 }  // namespace dmpl
 
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(
-      argc, argv, "dmpl_noise", "Reads sections: run, noise.",
-      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
-        dmpl::NoiseParams params;
-        ctx.config.Load("noise", &params);
-        params.Validate(ctx.config.source());
-        return std::make_unique<dmpl::NoiseNode>(ctx, params);
-      });
+namespace dmpl {
+
+std::unique_ptr<Node> MakeNoiseNode(const NodeContext& ctx) {
+  NoiseParams params;
+  ctx.config.Load("noise", &params);
+  params.Validate(ctx.config.source());
+  return std::make_unique<NoiseNode>(ctx, params);
 }
+
+}  // namespace dmpl
+
+#ifndef DMPL_NO_MAIN
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(argc, argv, "dmpl_noise", "Reads sections: run, noise.",
+                           dmpl::MakeNoiseNode);
+}
+#endif

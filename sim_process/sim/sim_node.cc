@@ -12,6 +12,7 @@
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
 #include "components/runtime/node.h"
+#include "components/runtime/node_factories.h"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
 #include "dmpl/joint_state_t.hpp"
@@ -204,7 +205,7 @@ class SimNode : public Node {
   }
 
   void ApplyControls() {
-    while (!controls_.empty() && controls_.front().seq <= tick_) {
+    while (!controls_.empty() && controls_.front().seq < tick_) {
       Apply(controls_.front());
       controls_.pop_front();
     }
@@ -240,15 +241,16 @@ class SimNode : public Node {
   }
 
   void OnSimControl(const lcm::ReceiveBuffer*, const std::string&, const sim_control_t* c) {
-    // Lockstep: a control carrying seq s takes effect before the step from tick s, so it lands
-    // at the same tick in every run. Without a seq (< 0) it applies at the next step.
+    // Lockstep: a control carrying seq s (sent in answer to tick s) takes effect before the step
+    // from tick s + 1: whoever sent it answered tick s before anyone could answer tick s + 1, so
+    // it lands at the same tick in every run, one process or many. Without a seq (< 0) it
+    // applies at the next step.
     sim_control_t control = *c;
-    if (control.seq < 0) control.seq = tick_;
-    if (run_.lockstep && control.seq < tick_) {
+    if (control.seq < 0) control.seq = tick_ - 1;
+    if (run_.lockstep && control.seq < tick_ - 1) {
       log().warn("late sim control for seq {} applied at tick {}", control.seq, tick_);
     }
-    if (control.command == sim_control_t::RESUME || control.command == sim_control_t::PAUSE ||
-        control.command == sim_control_t::STOP) {
+    if (control.command == sim_control_t::RESUME || control.command == sim_control_t::PAUSE) {
       Apply(control);  // these act on the loop itself, now
       if (control.command == sim_control_t::RESUME && awaiting_resume_) {
         awaiting_resume_ = false;  // the command of this tick was applied when it came
@@ -261,7 +263,7 @@ class SimNode : public Node {
 
   void Advance() {
     ApplyControls();
-    if (exit_requested()) return;
+    if (exit_requested()) return;  // a STOP
     const double t0 = MonotonicSeconds();
     for (int i = 0; i < sim_params_.steps_per_tick; ++i) sim_.Step();
     step_us_ = (MonotonicSeconds() - t0) * 1e6 / sim_params_.steps_per_tick;
@@ -350,18 +352,25 @@ class SimNode : public Node {
 }  // namespace
 }  // namespace dmpl
 
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(
-      argc, argv, "dmpl_sim", "Reads sections: run, hand, sim, object.",
-      [](const dmpl::NodeContext& ctx) -> std::unique_ptr<dmpl::Node> {
-        dmpl::HandParams hand;
-        dmpl::SimParams sim;
-        dmpl::ObjectParams object;
-        ctx.config.Load("hand", &hand);
-        ctx.config.Load("sim", &sim);
-        ctx.config.Load("object", &object);
-        sim.Validate(ctx.config.source());
-        object.Validate(ctx.config.source());
-        return std::make_unique<dmpl::SimNode>(ctx, dmpl::HandModel::Load(hand), sim, object);
-      });
+namespace dmpl {
+
+std::unique_ptr<Node> MakeSimNode(const NodeContext& ctx) {
+  HandParams hand;
+  SimParams sim;
+  ObjectParams object;
+  ctx.config.Load("hand", &hand);
+  ctx.config.Load("sim", &sim);
+  ctx.config.Load("object", &object);
+  sim.Validate(ctx.config.source());
+  object.Validate(ctx.config.source());
+  return std::make_unique<SimNode>(ctx, HandModel::Load(hand), sim, object);
 }
+
+}  // namespace dmpl
+
+#ifndef DMPL_NO_MAIN
+int main(int argc, char** argv) {
+  return dmpl::RunNodeMain(argc, argv, "dmpl_sim", "Reads sections: run, hand, sim, object.",
+                           dmpl::MakeSimNode);
+}
+#endif

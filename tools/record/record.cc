@@ -3,56 +3,20 @@
 // Why not lcm-logger: a 1 kHz lockstep run puts ~20 000 messages a second on the bus, and
 // lcm-logger's subscription queue (LCM's default of 30 messages) overflows whenever it is
 // descheduled for a millisecond or two; it then drops messages silently. Here the queue is large,
-// drops are counted and reported, and the exit code says whether the log is complete.
+// and the exit code says whether every write succeeded.
 //
 // usage: dmpl_record [--lcm-url URL] [--channels REGEX] FILE
-#include <lcm/eventlog.h>
-#include <sys/time.h>
-
 #include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
-#include <lcm/lcm-cpp.hpp>
 #include <string>
 
-namespace {
+#include "components/runtime/clock.h"
+#include "components/runtime/log_recorder.h"
 
+namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
-
-int64_t NowMicros() {
-  timeval tv;
-  gettimeofday(&tv, nullptr);
-  return static_cast<int64_t>(tv.tv_sec) * 1000000 + tv.tv_usec;
-}
-
-class Recorder {
- public:
-  explicit Recorder(lcm_eventlog_t* log) : log_(log) {}
-  void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    lcm_eventlog_event_t event{};
-    event.eventnum = count_;
-    event.timestamp = rbuf->recv_utime;
-    event.channellen = static_cast<int32_t>(channel.size());
-    event.datalen = static_cast<int32_t>(rbuf->data_size);
-    event.channel = const_cast<char*>(channel.c_str());
-    event.data = rbuf->data;
-    if (lcm_eventlog_write_event(log_, &event) != 0) {
-      ++failed_;
-      return;
-    }
-    ++count_;
-  }
-  int64_t count() const { return count_; }
-  int64_t failed() const { return failed_; }
-
- private:
-  lcm_eventlog_t* log_;
-  int64_t count_ = 0;
-  int64_t failed_ = 0;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,33 +44,28 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dmpl_record: cannot open LCM '%s'\n", url.c_str());
     return 3;
   }
-  lcm_eventlog_t* log = lcm_eventlog_create(file.c_str(), "w");
-  if (log == nullptr) {
-    std::fprintf(stderr, "dmpl_record: cannot create '%s': %s\n", file.c_str(), std::strerror(errno));
+  try {
+    dmpl::LogRecorder recorder(&lcm, file, channels);
+    struct sigaction action {};
+    action.sa_handler = OnSignal;
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+    double last_flush = dmpl::MonotonicSeconds();
+    while (!g_stop) {
+      lcm.handleTimeout(50);
+      if (dmpl::MonotonicSeconds() - last_flush > 0.2) {
+        recorder.Flush();
+        last_flush = dmpl::MonotonicSeconds();
+      }
+    }
+    while (lcm.handleTimeout(20) > 0) {  // drain what arrived before the stop
+    }
+    std::fprintf(stderr, "dmpl_record: %lld messages written to %s%s\n",
+                 static_cast<long long>(recorder.written()), file.c_str(),
+                 recorder.failed() ? " (SOME WRITES FAILED)" : "");
+    return recorder.failed() ? 1 : 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dmpl_record: %s\n", e.what());
     return 2;
   }
-  Recorder recorder(log);
-  lcm::Subscription* sub = lcm.subscribe(channels, &Recorder::OnMessage, &recorder);
-  sub->setQueueCapacity(1 << 20);
-  struct sigaction action {};
-  action.sa_handler = OnSignal;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  int64_t last_flush = NowMicros();
-  while (!g_stop) {
-    lcm.handleTimeout(50);
-    if (NowMicros() - last_flush > 200000) {
-      fflush(log->f);
-      last_flush = NowMicros();
-    }
-  }
-  // Drain what arrived before the stop.
-  while (lcm.handleTimeout(20) > 0) {
-  }
-  lcm.unsubscribe(sub);
-  lcm_eventlog_destroy(log);
-  std::fprintf(stderr, "dmpl_record: %lld messages written to %s%s\n",
-               static_cast<long long>(recorder.count()), file.c_str(),
-               recorder.failed() ? " (SOME WRITES FAILED)" : "");
-  return recorder.failed() ? 1 : 0;
 }

@@ -12,8 +12,10 @@ from .paths import BUILD, ROOT
 
 
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
-                   echo=True, progress=None):
-    """Runs one experiment and returns its summary (also written to OUT/summary.json)."""
+                   echo=True, progress=None, one_process=False):
+    """Runs one experiment and returns its summary (also written to OUT/summary.json).
+
+    one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results)."""
     config = experiment.resolve(config_path, params, sets, seed)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
@@ -22,8 +24,16 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     experiment.write(config, resolved)
     experiment.check_processes(resolved, config)
     variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved)}
-    pset = parse_set({"name": name, "processes": config["processes"]}, f"{config_path}: processes",
-                     variables)
+    if one_process:
+        if not config.get("run", {}).get("lockstep", True):
+            raise experiment.ExperimentError("one-process mode runs in lockstep only")
+        processes = [{"name": "dmpl_oneprocess", "exec": "dmpl_oneprocess",
+                      "args": ["--config", str(resolved), "--record", str(out / "run.lcmlog")],
+                      "exit_ends_set": True}]
+        set_data = {"name": name, "processes": processes, "record": False}
+    else:
+        set_data = {"name": name, "processes": config["processes"]}
+    pset = parse_set(set_data, f"{config_path}: processes", variables)
     launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
                         echo=echo)
     if progress:
@@ -48,6 +58,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     sim_time = summary.get("sim_time_s", 0.0)
     summary["realtime_factor"] = sim_time / wall if wall > 0 else 0.0
     summary["exit_code"] = code
+    summary["mode"] = "one-process" if one_process else "multi-process"
     timed_out = launcher.ended_by is None and str(launcher.stop_requested).startswith("duration")
     problems = []
     if timed_out:
@@ -115,10 +126,13 @@ def main(argv=None):
     add_common_args(ap)
     ap.add_argument("--out", help="output directory (default out/runs/NAME-TIME)")
     ap.add_argument("--quiet", action="store_true", help="keep process output in the log files only")
+    ap.add_argument("--one-process", action="store_true",
+                    help="run every node in one process on memq:// (lockstep; same results)")
     args = ap.parse_args(argv)
     try:
         summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
-                                      args.lcm_url, echo=not args.quiet)
+                                      args.lcm_url, echo=not args.quiet,
+                                      one_process=args.one_process)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2

@@ -1,0 +1,40 @@
+#include "components/runtime/log_recorder.h"
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace dmpl {
+
+LogRecorder::LogRecorder(lcm::LCM* lcm, const std::string& path, const std::string& channels)
+    : lcm_(lcm), log_(lcm_eventlog_create(path.c_str(), "w")) {
+  if (log_ == nullptr) {
+    throw std::runtime_error("cannot create log file '" + path + "': " + std::strerror(errno));
+  }
+  sub_ = lcm_->subscribe(channels, &LogRecorder::OnMessage, this);
+  sub_->setQueueCapacity(1 << 20);
+}
+
+LogRecorder::~LogRecorder() {
+  lcm_->unsubscribe(sub_);
+  lcm_eventlog_destroy(log_);
+}
+
+void LogRecorder::Flush() { fflush(log_->f); }
+
+void LogRecorder::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  lcm_eventlog_event_t event{};
+  event.eventnum = written_;
+  event.timestamp = rbuf->recv_utime;
+  event.channellen = static_cast<int32_t>(channel.size());
+  event.datalen = static_cast<int32_t>(rbuf->data_size);
+  event.channel = const_cast<char*>(channel.c_str());
+  event.data = rbuf->data;
+  if (lcm_eventlog_write_event(log_, &event) != 0) {
+    ++failed_;
+    return;
+  }
+  ++written_;
+}
+
+}  // namespace dmpl

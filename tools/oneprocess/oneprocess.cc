@@ -1,0 +1,112 @@
+// dmpl_oneprocess: every node of an experiment in one process, on one memq:// bus, in lockstep.
+// Same configuration, same messages, same results as the multi-process run for the same seed;
+// no sockets, no scheduler between the nodes. The fast path for Monte-Carlo runs, and the
+// baseline that the multi-process overhead is measured against.
+//
+// usage: dmpl_oneprocess --config EXPERIMENT.yaml [--set key=value]... [--params FILE]...
+//                        [--record FILE]
+// The experiment's `processes` say which nodes run (by their executables' names).
+#include <csignal>
+#include <iostream>
+#include <map>
+
+#include "components/runtime/clock.h"
+#include "components/runtime/log_recorder.h"
+#include "components/runtime/node_factories.h"
+
+namespace {
+
+using Factory = std::unique_ptr<dmpl::Node> (*)(const dmpl::NodeContext&);
+
+const std::map<std::string, Factory>& Factories() {
+  static const std::map<std::string, Factory> factories = {
+      {"dmpl_sim", dmpl::MakeSimNode},
+      {"dmpl_noise", dmpl::MakeNoiseNode},
+      {"dmpl_ik", dmpl::MakeIkNode},
+      {"dmpl_controller", dmpl::MakeControllerNode},
+      {"dmpl_supervisor", dmpl::MakeSupervisorNode},
+      {"dmpl_joint_player", dmpl::MakeJointPlayerNode},
+  };
+  return factories;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string record;
+  std::vector<char*> args = {argv[0]};
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--record" && i + 1 < argc) {
+      record = argv[++i];
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  dmpl::NodeContext ctx;
+  dmpl::NodeCommandLine cl;
+  try {
+    cl = dmpl::ParseNodeCommandLine(static_cast<int>(args.size()), args.data());
+    if (cl.help) {
+      std::cout << "usage: dmpl_oneprocess --config FILE [--set key=value]... [--params FILE]..."
+                   " [--record LOG]\n";
+      return 0;
+    }
+    ctx.config = dmpl::Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
+    ctx.config.Load("run", &ctx.run);
+  } catch (const std::exception& e) {
+    std::cerr << "dmpl_oneprocess: " << e.what() << "\n";
+    return 2;
+  }
+  auto log = dmpl::MakeLogger("dmpl_oneprocess");
+  if (!ctx.run.lockstep) {
+    log->critical("one-process mode runs in lockstep only (run.lockstep is false)");
+    return 2;
+  }
+  lcm::LCM lcm("memq://");
+  if (!lcm.good()) {
+    log->critical("cannot open an in-process LCM bus");
+    return 3;
+  }
+  ctx.lcm = &lcm;
+  std::vector<std::unique_ptr<dmpl::Node>> nodes;
+  try {
+    const YAML::Node processes = ctx.config.root()["processes"];
+    if (!processes || !processes.IsSequence()) {
+      throw dmpl::ConfigError("config error in " + ctx.config.source() +
+                              ": no 'processes' list to take the nodes from");
+    }
+    for (const auto& p : processes) {
+      const std::string exec = p["exec"].as<std::string>();
+      const auto it = Factories().find(exec);
+      if (it == Factories().end()) {
+        throw dmpl::ConfigError("config error in " + ctx.config.source() + ": process '" + exec +
+                                "' has no one-process node");
+      }
+      ctx.name = p["name"] ? p["name"].as<std::string>() : exec;
+      nodes.push_back(it->second(ctx));
+    }
+  } catch (const std::exception& e) {
+    log->critical("{}", e.what());
+    return 2;
+  }
+  std::unique_ptr<dmpl::LogRecorder> recorder;
+  if (!record.empty()) {
+    try {
+      recorder = std::make_unique<dmpl::LogRecorder>(&lcm, record);
+    } catch (const std::exception& e) {
+      log->critical("{}", e.what());
+      return 2;
+    }
+  }
+  dmpl::InstallStopSignalHandlers();
+  dmpl::Executor executor(&lcm, ctx.run.heartbeat_period_s);
+  for (auto& n : nodes) executor.Add(n.get());
+  const double t0 = dmpl::MonotonicSeconds();
+  const int code = executor.Spin();
+  while (lcm.handleTimeout(0) > 0) {  // deliver what is still queued (the last messages)
+  }
+  log->info("{} nodes ran for {:.3f} s of wall time{}", nodes.size(), dmpl::MonotonicSeconds() - t0,
+            recorder ? ", " + std::to_string(recorder->written()) + " messages recorded" : "");
+  if (recorder && recorder->failed() > 0) return 1;
+  return code;
+}
