@@ -31,6 +31,7 @@ import selectors
 import signal
 import subprocess
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -178,6 +179,10 @@ def load_set(path, variables):
     except yaml.YAMLError as e:
         raise SetError(f"{path}: YAML syntax error: {e}") from None
     return parse_set(data or {}, str(path), variables)
+
+
+# Launchers running now (a sweep runs several in threads and stops them all on Ctrl-C).
+ACTIVE = set()
 
 
 class _Proc:
@@ -409,12 +414,17 @@ class Launcher:
                 self.stop(p)
 
     def run(self, duration=None):
-        """Starts the set in order and runs until it ends. Returns the exit code."""
-        previous = {s: signal.signal(s, lambda n, f: self.request_stop(signal.Signals(n).name))
-                    for s in (signal.SIGINT, signal.SIGTERM)}
+        """Starts the set in order and runs until it ends. Returns the exit code. In the main
+        thread, SIGINT and SIGTERM stop the set; elsewhere the caller calls request_stop()."""
+        previous = {}
+        if threading.current_thread() is threading.main_thread():
+            previous = {s: signal.signal(s, lambda n, f: self.request_stop(signal.Signals(n).name))
+                        for s in (signal.SIGINT, signal.SIGTERM)}
+        ACTIVE.add(self)
         try:
             return self._run(duration)
         finally:
+            ACTIVE.discard(self)
             for s, h in previous.items():
                 signal.signal(s, h)
             for p in self.procs + ([self.logger] if self.logger else []):

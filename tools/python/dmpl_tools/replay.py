@@ -1,0 +1,130 @@
+"""tools/dmpl replay LOG: plays a recorded log back onto LCM.
+
+  --speed S        1 = as recorded (default), 2 = twice as fast, 0 = as fast as possible
+  --channels RE    only channels matching this regex (default: all)
+  --loop           start over at the end
+  --answer CHANNEL lockstep: before publishing a message of tick k, wait until CHANNEL has
+                   answered every tick before k (for re-running one process on recorded inputs)
+  --compare        with --answer: compare the answers with the ones recorded in the log
+
+Every dmpl message begins with utime and seq, so the tick of any message is read from its bytes.
+Example, the controller alone on the sensed channels and tasks of a run:
+  dmpl_controller --config RUN/config.yaml &
+  tools/dmpl replay RUN/run.lcmlog --channels 'DMPL_(HAND_STATE|TACTILE|OBJECT_POSE|TASK)$' \\
+      --answer DMPL_FINGER_TARGETS --compare
+"""
+import argparse
+import re
+import struct
+import sys
+import time
+
+import lcm
+
+from .launch import DEFAULT_LCM_URL
+
+
+def seq_of(data):
+    """The lockstep seq of a dmpl message: fingerprint (8 bytes), utime (8), seq (8)."""
+    return struct.unpack(">q", data[16:24])[0] if len(data) >= 24 else None
+
+
+def read_events(path, pattern):
+    regex = re.compile(pattern)
+    log = lcm.EventLog(str(path), "r")
+    events = [(e.timestamp, e.channel, e.data) for e in log if regex.match(e.channel)]
+    log.close()
+    return events
+
+
+def recorded(path, channel):
+    log = lcm.EventLog(str(path), "r")
+    out = {seq_of(e.data): e.data for e in log if e.channel == channel}
+    log.close()
+    return out
+
+
+class Replayer:
+    def __init__(self, url):
+        self.lc = lcm.LCM(url)
+        self.answers = {}
+
+    def on_answer(self, channel, data):
+        self.answers[seq_of(data)] = data
+
+    def play(self, events, speed=1.0, answer=None, timeout=5.0):
+        """Publishes the events. With `answer`, a message that starts a new tick (a seq above
+        every one published so far) waits until the previous tick has been answered."""
+        if answer:
+            self.lc.subscribe(answer, self.on_answer)
+        t0_log, t0 = events[0][0], time.monotonic()
+        newest = None
+        for stamp, channel, data in events:
+            s = seq_of(data)
+            if answer and s is not None and newest is not None and s > newest:
+                self.wait_for(newest, answer, timeout)
+            elif not answer and speed > 0:
+                wait = (stamp - t0_log) / 1e6 / speed - (time.monotonic() - t0)
+                if wait > 0:
+                    time.sleep(wait)
+            if s is not None:
+                newest = s if newest is None else max(newest, s)
+            self.lc.publish(channel, data)
+            while self.lc.handle_timeout(0) > 0:
+                pass
+        if answer and newest is not None:
+            self.wait_for(newest, answer, timeout)
+        return len(events)
+
+    def wait_for(self, tick, answer, timeout):
+        deadline = time.monotonic() + timeout
+        while tick not in self.answers:
+            if time.monotonic() > deadline:
+                raise TimeoutError(f"no answer on {answer} for tick {tick}")
+            self.lc.handle_timeout(10)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="tools/dmpl replay", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("log")
+    ap.add_argument("--speed", type=float, default=1.0)
+    ap.add_argument("--channels", default=".*")
+    ap.add_argument("--loop", action="store_true")
+    ap.add_argument("--answer")
+    ap.add_argument("--compare", action="store_true")
+    ap.add_argument("--lcm-url", default=None)
+    args = ap.parse_args(argv)
+    import os
+    url = args.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
+    try:
+        events = read_events(args.log, args.channels)
+    except (OSError, IOError) as e:
+        print(f"dmpl replay: cannot read '{args.log}': {e}", file=sys.stderr)
+        return 2
+    if not events:
+        print(f"dmpl replay: no events match '{args.channels}' in {args.log}", file=sys.stderr)
+        return 2
+    player = Replayer(url)
+    print(f"dmpl replay: {len(events)} messages from {args.log} onto {url}", file=sys.stderr)
+    while True:
+        try:
+            player.play(events, args.speed, args.answer)
+        except TimeoutError as e:
+            print(f"dmpl replay: {e}", file=sys.stderr)
+            return 1
+        if not args.loop:
+            break
+    if args.answer and args.compare:
+        expected = recorded(args.log, args.answer)
+        same = sum(1 for s, d in player.answers.items() if expected.get(s) == d)
+        differ = sorted(s for s, d in player.answers.items() if s in expected and expected[s] != d)
+        missing = sorted(set(expected) - set(player.answers))
+        print(f"dmpl replay: {same} answers identical to the log, {len(differ)} differ"
+              f"{' (first at tick %d)' % differ[0] if differ else ''}, {len(missing)} missing")
+        return 0 if not differ and not missing else 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,252 @@
+"""tools/dmpl report LOG [--out DIR]: a report with the plots a reader of the paper expects.
+
+  fig8a_orientation.png   object rotation about the task axis over time, truth against target
+  fig8b_position.png      noisy (sensed) against true object position
+  fig9_exploration.png    exploring fingers' force against the force asked of them
+  fig10_forces.png        contact forces of all four fingers, the finger roles shaded
+  statechart.png          the grasp and regrasp statecharts' states over time
+  report.md               the headline numbers and the figures
+
+The summary comes from DIR/summary.json when the log belongs to a run directory, else it is
+computed from the log itself.
+"""
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import experiment, metrics
+from .logdata import AXES, LogData, cumulative_rotation, quat_conj, quat_mul, rotation_vector
+
+ROLE_COLOURS = {1: None, 2: "#ffb74d", 0: "#cfd8dc"}  # grip: none, explore: orange, free: grey
+FINGER_COLOURS = ["#1f77b4", "#2ca02c", "#d62728", "#9467bd"]
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _commanded_rotation(data, axis, t):
+    """The commanded object rotation about `axis` (from the task targets), on times t."""
+    tasks = data.tasks
+    if not len(tasks) or not tasks["has_target"].any():
+        return None
+    q0 = data.object["orientation"][0]
+    targets = tasks["orientation"]
+    rel = rotation_vector(quat_mul(targets, quat_conj(np.repeat(q0[None], len(targets), 0))))
+    angle = rel @ axis
+    idx = np.clip(np.searchsorted(tasks.t, t, side="right") - 1, 0, len(tasks) - 1)
+    out = angle[idx]
+    out[t < tasks.t[0]] = np.nan
+    out[~tasks["has_target"][idx]] = np.nan
+    return out
+
+
+def plot_orientation(data, axis_name, path):
+    plt = _plt()
+    axis = AXES[axis_name]
+    o = data.object
+    rot = cumulative_rotation(o["orientation"], axis)
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    ax.plot(o.t, rot, label="object (truth)", color="#d62728")
+    cmd = _commanded_rotation(data, axis, o.t)
+    if cmd is not None:
+        # Wrap the commanded angle onto the unwrapped truth (targets are absolute orientations).
+        cmd = rot + np.angle(np.exp(1j * (cmd - rot)))
+        ax.plot(o.t, cmd, "--", label="target", color="#1f77b4")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(f"rotation about {axis_name} (rad)")
+    ax.set_title("Object orientation (Fig. 8a)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_position(data, path):
+    plt = _plt()
+    fig, axes = plt.subplots(3, 1, figsize=(8, 6), sharex=True)
+    truth, sensed = data.object, data.object_sensed
+    for i, name in enumerate("xyz"):
+        ax = axes[i]
+        if len(sensed):
+            ax.plot(sensed.t, sensed["position"][:, i] * 1000, color="#1f77b4", lw=0.5,
+                    label="sensed (noisy)")
+        ax.plot(truth.t, truth["position"][:, i] * 1000, color="#d62728", lw=1.2, label="truth")
+        ax.set_ylabel(f"{name} (mm)")
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="upper right")
+    axes[0].set_title("Object position, sensed against true (Fig. 8b)")
+    axes[-1].set_xlabel("time (s)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _roles(data, times):
+    ctl = data.controller
+    if not len(ctl):
+        return np.ones((len(times), len(data.fingers)), dtype=int)
+    idx = np.clip(np.searchsorted(ctl.t, times, side="right") - 1, 0, len(ctl) - 1)
+    return ctl["role"][idx]
+
+
+def plot_exploration(data, path):
+    plt = _plt()
+    tact = data.tactile
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    roles = _roles(data, tact.t)
+    shown = False
+    if len(data.controller):
+        idx = np.clip(np.searchsorted(data.controller.t, tact.t, side="right") - 1, 0,
+                      len(data.controller) - 1)
+        desired = data.controller["desired_force"][idx]
+        for f, name in enumerate(data.fingers):
+            mask = roles[:, f] == 2
+            if not mask.any():
+                continue
+            shown = True
+            force = np.where(mask, tact["force"][:, f], np.nan)
+            ax.plot(tact.t, force, color=FINGER_COLOURS[f], lw=0.8, label=f"{name} force")
+            ax.plot(tact.t, np.where(mask, desired[:, f], np.nan), "--", color=FINGER_COLOURS[f],
+                    lw=1.0, label=f"{name} asked")
+    if not shown:
+        ax.text(0.5, 0.5, "no finger explored in this run", ha="center", va="center",
+                transform=ax.transAxes)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("normal force (N)")
+    ax.set_title("Exploration finger force (Fig. 9)")
+    ax.grid(alpha=0.3)
+    if shown:
+        ax.legend(loc="upper right", ncol=2, fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_forces(data, path):
+    plt = _plt()
+    tact = data.tactile
+    n = len(data.fingers)
+    fig, axes = plt.subplots(n, 1, figsize=(8, 1.6 * n + 1), sharex=True, sharey=True)
+    roles = _roles(data, tact.t)
+    for f, name in enumerate(data.fingers):
+        ax = axes[f]
+        for role, colour in ROLE_COLOURS.items():
+            if colour is None:
+                continue
+            ax.fill_between(tact.t, 0, 1, where=roles[:, f] == role, color=colour, alpha=0.5,
+                            transform=ax.get_xaxis_transform(), lw=0,
+                            label={2: "explore", 0: "free"}[role] if f == 0 else None)
+        ax.plot(tact.t, tact["force"][:, f], color=FINGER_COLOURS[f], lw=0.7)
+        ax.set_ylabel(f"{name} (N)")
+        ax.grid(alpha=0.3)
+    axes[0].set_title("Contact forces, finger roles shaded (Fig. 10)")
+    axes[0].legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("time (s)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_states(data, path):
+    plt = _plt()
+    sup = data.supervisor
+    fig, axes = plt.subplots(2, 1, figsize=(8, 4), sharex=True)
+    if not len(sup):
+        for ax in axes:
+            ax.text(0.5, 0.5, "no supervisor in this run", ha="center", va="center",
+                    transform=ax.transAxes)
+    else:
+        for ax, key, title in ((axes[0], "grasp_state", "grasp chart (Fig. 5)"),
+                               (axes[1], "regrasp_state", "regrasp chart (Fig. 4)")):
+            states = sup[key]
+            names = list(dict.fromkeys(states))
+            if key == "regrasp_state":
+                names = sorted(names)
+            y = [names.index(s) for s in states]
+            ax.step(sup.t, y, where="post", color="#1f77b4")
+            ax.set_yticks(range(len(names)))
+            ax.set_yticklabels(names, fontsize=8)
+            ax.set_title(title, fontsize=10)
+            ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time (s)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+FIGURES = [("fig8a_orientation.png", "Object orientation against its target (Fig. 8a)"),
+           ("fig8b_position.png", "Sensed (noisy) against true object position (Fig. 8b)"),
+           ("fig9_exploration.png", "Exploration finger force (Fig. 9)"),
+           ("fig10_forces.png", "Contact forces with the finger roles shaded (Fig. 10)"),
+           ("statechart.png", "Statechart states over time")]
+
+HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
+            "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
+            "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
+            "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n"]
+
+
+def make_report(log_path, out_dir=None, summary=None, config=None):
+    """Writes the figures and report.md; returns the report's path."""
+    log_path = Path(log_path)
+    out = Path(out_dir) if out_dir else log_path.parent / "report"
+    out.mkdir(parents=True, exist_ok=True)
+    run_dir = log_path.parent
+    if config is None and (run_dir / "config.yaml").exists():
+        config = experiment.load_yaml(run_dir / "config.yaml")
+    config = config or {}
+    config.setdefault("metrics", {})
+    for k, v in experiment.METRICS_DEFAULTS.items():
+        config["metrics"].setdefault(k, v)
+    if summary is None and (run_dir / "summary.json").exists():
+        summary = json.loads((run_dir / "summary.json").read_text())
+    data = LogData(log_path)
+    if summary is None:
+        summary = metrics.compute(data, config)
+    axis = str(config.get("task", {}).get("axis", "x"))
+    plot_orientation(data, axis if axis in AXES else "x", out / FIGURES[0][0])
+    plot_position(data, out / FIGURES[1][0])
+    plot_exploration(data, out / FIGURES[2][0])
+    plot_forces(data, out / FIGURES[3][0])
+    plot_states(data, out / FIGURES[4][0])
+    name = config.get("experiment", {}).get("name", log_path.stem)
+    lines = [f"# dmpl report: {name}", "", f"Log: `{log_path}`", "", "| metric | value |",
+             "| --- | --- |"]
+    for key in HEADLINE:
+        if key in summary:
+            v = summary[key]
+            lines.append(f"| {key} | {v:.4g} |" if isinstance(v, float) else f"| {key} | {v} |")
+    for p in summary.get("problems", []):
+        lines.append(f"| problem | {p} |")
+    lines.append("")
+    for file, caption in FIGURES:
+        lines += [f"## {caption}", "", f"![{caption}]({file})", ""]
+    report = out / "report.md"
+    report.write_text("\n".join(lines))
+    return report
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="tools/dmpl report", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("log", help="an LCM log recorded by tools/dmpl run or launch")
+    ap.add_argument("--out", help="output directory (default: LOG's directory/report)")
+    args = ap.parse_args(argv)
+    if not Path(args.log).is_file():
+        print(f"dmpl report: no such log '{args.log}'", file=sys.stderr)
+        return 2
+    report = make_report(args.log, args.out)
+    print(f"report: {report}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
