@@ -1,5 +1,6 @@
 #include "components/runtime/node.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -206,7 +207,11 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
   Executor executor(&lcm, ctx.run.heartbeat_period_s);
   executor.Add(node.get());
   const int code = executor.Spin();
-  log->info("stopped (exit code {})", code);
+  rusage cpu{};
+  getrusage(RUSAGE_SELF, &cpu);
+  log->info("stopped (exit code {}); cpu time user {:.3f} s, system {:.3f} s", code,
+            cpu.ru_utime.tv_sec + cpu.ru_utime.tv_usec * 1e-6,
+            cpu.ru_stime.tv_sec + cpu.ru_stime.tv_usec * 1e-6);
   return code;
 }
 

@@ -5,8 +5,10 @@
 // tick k+1. A missing command is a fault reported with its seq, never a silent hold; after
 // run.max_tick_faults faults the simulator gives up (exit 4).
 // Real time: step on the wall clock (sim.realtime_rate), use the latest command, count late ones.
+#include <algorithm>
 #include <cmath>
 #include <deque>
+#include <fstream>
 
 #include "components/hand/hand_model.h"
 #include "components/runtime/channels.h"
@@ -112,6 +114,7 @@ class SimNode : public Node {
     }
     lcm().publish(channels::kTactileTrue, &tactile_msg_);
     published_at_ = MonotonicSeconds();
+    if (!run_.lockstep) publish_times_[tick_ % kLatencyWindow] = published_at_;
     set_tick(tick_);
     // Status at 10 Hz of simulated time, and whenever something went wrong.
     if (tick_ % std::max<int64_t>(1, std::llround(0.1 / TickSeconds())) == 0) PublishStatus();
@@ -172,6 +175,13 @@ class SimNode : public Node {
       Advance();
     } else {
       if (cmd->seq < tick_ - 1) ++late_;
+      // Sensor-to-command latency: from publishing tick k to receiving the command for it.
+      if (cmd->seq >= 0 && cmd->seq <= tick_ && tick_ - cmd->seq < kLatencyWindow &&
+          cmd->seq > last_answered_) {
+        latencies_us_.push_back((MonotonicSeconds() - publish_times_[cmd->seq % kLatencyWindow]) *
+                                1e6);
+        last_answered_ = cmd->seq;
+      }
       ApplyCommand(*cmd);
     }
   }
@@ -280,10 +290,31 @@ class SimNode : public Node {
   void Finish() {
     PublishStatus();
     const double wall = MonotonicSeconds() - wall_start_;
+    if (!sim_params_.stats_file.empty()) WriteStats(wall);
     log().info("simulated {:.3f} s in {:.3f} s of wall time (real-time factor {:.2f}); faults {}, "
                "rejected commands {}, stale {}",
                sim_.time(), wall, wall > 0 ? sim_.time() / wall : 0.0, faults_, rejected_, stale_);
     RequestExit(faults_ >= run_.max_tick_faults ? kExitLockstepFault : 0);
+  }
+
+  void WriteStats(double wall) {
+    auto percentile = [this](double p) {
+      if (latencies_us_.empty()) return 0.0;
+      std::vector<double> v = latencies_us_;
+      const size_t i = std::min(v.size() - 1, static_cast<size_t>(p * v.size()));
+      std::nth_element(v.begin(), v.begin() + i, v.end());
+      return v[i];
+    };
+    std::ofstream out(sim_params_.stats_file);
+    out << "{\"ticks\": " << tick_ << ", \"sim_time_s\": " << sim_.time()
+        << ", \"wall_time_s\": " << wall << ", \"realtime_factor\": "
+        << (wall > 0 ? sim_.time() / wall : 0.0) << ", \"tick_us\": "
+        << (tick_ > 0 ? wall * 1e6 / tick_ : 0.0) << ", \"step_us_last\": " << step_us_
+        << ", \"lockstep\": " << (run_.lockstep ? "true" : "false")
+        << ", \"latency_samples\": " << latencies_us_.size()
+        << ", \"latency_p50_us\": " << percentile(0.5)
+        << ", \"latency_p99_us\": " << percentile(0.99) << ", \"late_commands\": " << late_
+        << "}\n";
   }
 
   void CheckLockstep() {
@@ -345,6 +376,10 @@ class SimNode : public Node {
   double step_us_ = 0;
   std::string last_fault_;
   double created_ = MonotonicSeconds();
+  static constexpr int64_t kLatencyWindow = 1024;
+  std::vector<double> publish_times_ = std::vector<double>(kLatencyWindow, 0.0);
+  std::vector<double> latencies_us_;
+  int64_t last_answered_ = -1;
   double published_at_ = 0;
   double wall_start_ = 0;
 };

@@ -77,6 +77,7 @@ struct SimParams {
   int steps_per_tick = 1;
   double duration_s = 10.0;        // the run ends after this much simulated time
   double realtime_rate = 1.0;      // real-time mode: sim seconds per wall second
+  std::string stats_file;          // at the end: JSON with ticks, real-time factor, latencies
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -89,6 +90,7 @@ struct SimParams {
     a->Visit(DMPL_NVP(steps_per_tick));
     a->Visit(DMPL_NVP(duration_s));
     a->Visit(DMPL_NVP(realtime_rate));
+    a->Visit(DMPL_NVP(stats_file));
   }
   void Validate(const std::string& source) const;
 };

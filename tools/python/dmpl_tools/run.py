@@ -12,7 +12,7 @@ from .paths import BUILD, ROOT
 
 
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
-                   echo=True, progress=None, one_process=False):
+                   echo=True, progress=None, one_process=False, record=True):
     """Runs one experiment and returns its summary (also written to OUT/summary.json).
 
     one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results)."""
@@ -27,15 +27,17 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     if one_process:
         if not config.get("run", {}).get("lockstep", True):
             raise experiment.ExperimentError("one-process mode runs in lockstep only")
-        processes = [{"name": "dmpl_oneprocess", "exec": "dmpl_oneprocess",
-                      "args": ["--config", str(resolved), "--record", str(out / "run.lcmlog")],
+        args = ["--config", str(resolved)]
+        if record:
+            args += ["--record", str(out / "run.lcmlog")]
+        processes = [{"name": "dmpl_oneprocess", "exec": "dmpl_oneprocess", "args": args,
                       "exit_ends_set": True}]
         set_data = {"name": name, "processes": processes, "record": False}
     else:
         set_data = {"name": name, "processes": config["processes"]}
     pset = parse_set(set_data, f"{config_path}: processes", variables)
     launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
-                        echo=echo)
+                        echo=echo, record=record and not one_process)
     if progress:
         progress.attach(launcher)
     launcher.say(f"experiment '{name}' -> {out} (LCM {launcher.url})")
@@ -49,7 +51,9 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
                "object_shape": config.get("object", {}).get("shape", "sphere"),
                "object_mass_kg": config.get("object", {}).get("mass", 0.05)}
     log_path = out / "run.lcmlog"
-    if log_path.exists():
+    if not record:
+        summary["note"] = "not recorded: no metrics"
+    elif log_path.exists():
         data = LogData(log_path)
         summary.update(metrics.compute(data, config))
     else:
@@ -73,7 +77,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         problems.append("supervisor did not finish its tasks")
     if summary.get("log_missing_ticks", 0) > 0:
         problems.append(f"the log misses {summary['log_missing_ticks']} ticks")
-    if "error" in summary:
+    if "error" in summary and record:
         problems.append(summary["error"])
     summary["status"] = "timeout" if timed_out else ("failed" if problems else "success")
     if problems:
