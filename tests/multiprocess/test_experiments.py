@@ -1,0 +1,57 @@
+"""Issue 5: the paper's experiments as full process sets (sim, noise, IK, controller, supervisor)
+run by tools/dmpl run, with assertions on summary.json; variants (another radius, another axis)
+in one-process mode, which gives the same results faster. The finger-gaiting experiments run a
+shorter rotation here (two steps); the whole turns belong to sweeps and benchmarks."""
+import sys
+import tempfile
+import unittest
+
+import mp
+from dmpl_tools.run import run_experiment
+
+EXP = mp.ROOT + "/configs/experiments/"
+
+
+def run(name, *sets, one_process=False, seed=1):
+    summary, _ = run_experiment(EXP + name + ".yaml", tempfile.mkdtemp(prefix="dmpl_exp_"),
+                                seed=seed, sets=sets, echo=False, one_process=one_process)
+    return summary
+
+
+class ExperimentsTest(unittest.TestCase):
+    def check_fig8(self, s):
+        self.assertEqual(s["status"], "success", s.get("problems"))
+        self.assertLess(s["final_orientation_error_rad"], 0.02)
+        self.assertEqual(s["contacts_lost"], 0)
+        self.assertFalse(s["object_dropped"])
+        self.assertEqual(s["log_missing_ticks"], 0)
+
+    def test_fig8_sphere(self):
+        self.check_fig8(run("fig8_sphere"))
+
+    def test_fig8_cylinder(self):
+        self.check_fig8(run("fig8_cylinder"))
+
+    def test_fig8_variants(self):
+        self.check_fig8(run("fig8_sphere", "object.radius=0.03", one_process=True))
+        self.check_fig8(run("fig8_sphere", "task.axis=y", one_process=True))
+
+    def test_fig9_explore(self):
+        for s in (run("fig9_explore"), run("fig9_explore", "object.radius=0.03", one_process=True)):
+            self.assertEqual(s["status"], "success", s.get("problems"))
+            self.assertFalse(s["object_dropped"])
+            self.assertLess(s["exploration_force_rms_error_n"], 0.05)
+            self.assertAlmostEqual(s["exploration_force_mean_n"], 0.1, delta=0.03)
+
+    def test_fig10_gait_short(self):
+        # Two gait steps (R explores, TFM turn; M explores, TFR turn): the statechart's cycle.
+        for s in (run("fig10_gait_sphere", "task.angle=0.35"),
+                  run("fig10_gait_cylinder", "task.angle=0.35", one_process=True)):
+            self.assertEqual(s["status"], "success", s.get("problems"))
+            self.assertFalse(s["object_dropped"])
+            self.assertGreater(s["rotation_total_rad"], 0.35 - 0.02)
+            self.assertGreaterEqual(s["regrasps"], 1)
+
+
+if __name__ == "__main__":
+    sys.exit(unittest.main())
