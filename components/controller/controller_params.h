@@ -1,4 +1,6 @@
 #pragma once
+#include <array>
+
 #include "components/runtime/params.h"
 
 namespace dmpl {
@@ -59,6 +61,15 @@ struct ControllerParams {
   double stable_force_tolerance = 0.35;  // |f - f*| < tol * f* for every grip finger...
   double stable_hold_s = 0.15;           // ...this long: GRASP_STABLE
   bool wait_for_task = true;             // lockstep: tick k waits for the supervisor's answer to k-1
+  // Tactile calibration (tools/dmpl calibrate): force = (sensed - bias) / scale, contact point =
+  // sensed - offset.
+  double tactile_force_scale = 1.0;
+  double tactile_force_bias = 0.0;
+  std::array<double, 3> tactile_position_offset = {0.0, 0.0, 0.0};
+  // The force planner aims at the contacts' centroid (the paper), or, when use_surface_centre is
+  // set, at the object estimate + surface_centre_offset (a surface fitted by calibration).
+  bool use_surface_centre = false;
+  std::array<double, 3> surface_centre_offset = {0.0, 0.0, 0.0};
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -93,6 +104,11 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(stable_force_tolerance));
     a->Visit(DMPL_NVP(stable_hold_s));
     a->Visit(DMPL_NVP(wait_for_task));
+    a->Visit(DMPL_NVP(tactile_force_scale));
+    a->Visit(DMPL_NVP(tactile_force_bias));
+    a->Visit(DMPL_NVP(tactile_position_offset));
+    a->Visit(DMPL_NVP(use_surface_centre));
+    a->Visit(DMPL_NVP(surface_centre_offset));
   }
   void Validate(const std::string& source) const;
 };

@@ -8,9 +8,71 @@
 
 namespace dmpl {
 
+namespace {
+
+// Forces aimed at an arbitrary point: still zero moment (the lines meet there), and the magnitudes
+// by least squares around the nominal force with an active set for the minimum: a force below it
+// is fixed at the minimum and the others re-solved. Nothing when no such balance exists.
+std::optional<ForcePlan> PlanTowards(const std::vector<Eigen::Vector3d>& contacts,
+                                     const std::vector<int>& idx, const Eigen::Vector3d& aim,
+                                     double nominal_n, double minimum_n,
+                                     const Eigen::Vector3d& external) {
+  const int n = static_cast<int>(idx.size());
+  Eigen::Matrix3Xd u(3, n);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d v = aim - contacts[idx[k]];
+    if (v.norm() < 1e-9) return std::nullopt;
+    u.col(k) = v.normalized();
+  }
+  std::vector<bool> fixed(n, false);
+  Eigen::VectorXd f = Eigen::VectorXd::Constant(n, nominal_n);
+  for (int pass = 0; pass <= n; ++pass) {
+    Eigen::Vector3d rhs = -external;
+    std::vector<int> free;
+    for (int k = 0; k < n; ++k) {
+      if (fixed[k]) {
+        rhs -= minimum_n * u.col(k);
+      } else {
+        free.push_back(k);
+      }
+    }
+    if (free.empty()) break;
+    Eigen::Matrix3Xd uf(3, free.size());
+    Eigen::VectorXd f0 = Eigen::VectorXd::Constant(free.size(), nominal_n);
+    for (size_t j = 0; j < free.size(); ++j) uf.col(j) = u.col(free[j]);
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix3d> cod(uf * uf.transpose());
+    const Eigen::VectorXd ff = f0 - uf.transpose() * cod.solve(uf * f0 - rhs);
+    bool violated = false;
+    for (size_t j = 0; j < free.size(); ++j) {
+      f[free[j]] = ff[j];
+      if (ff[j] < minimum_n - 1e-12) {
+        fixed[free[j]] = true;
+        violated = true;
+      }
+    }
+    for (int k = 0; k < n; ++k) {
+      if (fixed[k]) f[k] = minimum_n;
+    }
+    if (!violated) {
+      const Eigen::Vector3d net = u * f + external;
+      if (net.norm() > 1e-6 * std::max(1.0, nominal_n)) break;  // unbalanceable: fall back
+      ForcePlan plan;
+      plan.forces.resize(contacts.size());
+      plan.centroid = aim;
+      for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), f[k]};
+      plan.balanced = true;
+      return plan;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
                          const std::vector<bool>& grip, double nominal_n, double minimum_n,
-                         const Eigen::Vector3d& external) {
+                         const Eigen::Vector3d& external,
+                         const std::optional<Eigen::Vector3d>& aim) {
   DMPL_DEMAND(contacts.size() == grip.size());
   ForcePlan plan;
   plan.forces.resize(contacts.size());
@@ -21,6 +83,11 @@ ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
   if (idx.empty()) return plan;
   for (int i : idx) plan.centroid += contacts[i];
   plan.centroid /= static_cast<double>(idx.size());
+  if (aim && idx.size() >= 2) {
+    if (auto towards = PlanTowards(contacts, idx, *aim, nominal_n, minimum_n, external)) {
+      return *towards;
+    }
+  }
   const int n = static_cast<int>(idx.size());
   Eigen::Matrix3Xd u(3, n);
   Eigen::VectorXd d(n);

@@ -4,6 +4,7 @@
 // the magnitudes make the net force zero and none falls below a minimum (least squares around the
 // nominal grip force). An exploration finger gets its own fixed small force and stays out of the
 // balance: the grip fingers treat its force as zero (the paper's premise).
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -24,8 +25,10 @@ struct ForcePlan {
 // `contacts`: contact positions (palm frame); `grip`: which take part in the balance.
 // `external`: a known force on the object the grip forces must cancel too (the exploration
 // finger's fixed small push); zero in the paper.
+// `aim`: the point the forces meet in; the grip contacts' centroid (the paper) when not given.
 ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
                          const std::vector<bool>& grip, double nominal_n, double minimum_n,
-                         const Eigen::Vector3d& external = Eigen::Vector3d::Zero());
+                         const Eigen::Vector3d& external = Eigen::Vector3d::Zero(),
+                         const std::optional<Eigen::Vector3d>& aim = std::nullopt);
 
 }  // namespace dmpl

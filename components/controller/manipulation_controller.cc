@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "components/controller/position_planner.h"
 #include "components/runtime/check.h"
@@ -41,6 +42,7 @@ void ControllerParams::Validate(const std::string& source) const {
     fail("contact_debounce_ticks", "debounce and loss ticks must be >= 1");
   }
   if (!(approach_speed > 0) || !(hybrid_max_speed > 0)) fail("approach_speed", "speeds must be > 0");
+  if (!(tactile_force_scale > 0)) fail("tactile_force_scale", "must be > 0");
 }
 
 ManipulationController::ManipulationController(const HandKinematics& kinematics,
@@ -188,9 +190,19 @@ double ManipulationController::ForceTerm(FingerState* s, const ForceGains& g, do
   return std::clamp(g.kp * e + s->integral, -g.integral_limit, g.integral_limit);
 }
 
-const ControllerOutput& ManipulationController::Step(const SensedInput& in, const TaskInput& task) {
+const ControllerOutput& ManipulationController::Step(const SensedInput& raw, const TaskInput& task) {
   out_.events.clear();
-  out_.seq = in.seq;
+  out_.seq = raw.seq;
+  // The tactile calibration, if any: undo the sensors' scale, bias and offset.
+  SensedInput in = raw;
+  const Eigen::Vector3d offset(params_.tactile_position_offset[0],
+                               params_.tactile_position_offset[1],
+                               params_.tactile_position_offset[2]);
+  for (auto& t : in.tips) {
+    if (!t.in_contact) continue;
+    t.force = std::max(0.0, (t.force - params_.tactile_force_bias) / params_.tactile_force_scale);
+    t.position -= offset;
+  }
   std::string why;
   if (!Validate(in, &why)) {
     Emit(EventType::kInputRejected, -1, 0.0, why + "; holding the last targets");
@@ -260,8 +272,14 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& in, cons
     const Eigen::Vector3d error = reference_.translation() - estimate_.translation();
     external -= ClampNorm(params_.translation_force_gain * error, params_.max_translation_force_n);
   }
+  std::optional<Eigen::Vector3d> aim;
+  if (params_.use_surface_centre && has_estimate_) {
+    aim = estimate_.translation() + Eigen::Vector3d(params_.surface_centre_offset[0],
+                                                    params_.surface_centre_offset[1],
+                                                    params_.surface_centre_offset[2]);
+  }
   const ForcePlan plan = PlanGripForces(contacts, in_grip, params_.grip_force_n,
-                                        params_.min_grip_force_n, external);
+                                        params_.min_grip_force_n, external, aim);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
   const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   const Eigen::Vector3d centre =

@@ -109,7 +109,7 @@ class ManipulationController {
 
   // One control cycle. Bad input (NaN, wrong sizes) is rejected: the last targets are held and
   // an INPUT_REJECTED event says why.
-  const ControllerOutput& Step(const SensedInput& in, const TaskInput& task);
+  const ControllerOutput& Step(const SensedInput& raw, const TaskInput& task);
 
   const ControllerOutput& output() const { return out_; }
   const ControllerParams& params() const { return params_; }

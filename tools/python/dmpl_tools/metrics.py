@@ -16,6 +16,7 @@ Definitions (DESIGN.md section 6; the run's config section `metrics` sets the th
 - exploration_force_mean_n / _rms_error_n: the truth force of exploring fingers against the
   force asked of them, from 0.25 s after a finger became an explorer (the grip-to-light-touch
   transient is not the exploration).
+- grip_force_rms_error_n: RMS of the grip fingers' truth force against the force asked of them.
 - contacts_lost: grip fingers (per the supervisor's roles; every finger without a supervisor)
   whose contact disappears for longer than contact_loss_s while the object is held.
 """
@@ -98,6 +99,7 @@ def compute(data, config):
         summary["supervisor_finished"] = bool(sup["finished"][-1])
         summary["supervisor_failed"] = bool(sup["failed"][-1])
         summary.update(_exploration(data, t_begin))
+        summary.update(_grip_force_error(data, t_begin))
     else:
         summary["regrasps"] = 0
     if data.sim_status:
@@ -171,6 +173,20 @@ def _tracking_error(data, t, rotation, i_begin):
     idx = np.clip(np.searchsorted(sup.t, tt, side="right") - 1, 0, len(sup) - 1)
     commanded = sup["rotation_commanded"][idx]
     return float(np.abs(rotation - commanded).max())
+
+
+def _grip_force_error(data, t_begin):
+    """RMS of the grip fingers' truth force against the force the controller asked of them."""
+    ctl, tact = data.controller, data.tactile
+    if not len(ctl) or not len(tact):
+        return {}
+    sel = tact.t >= t_begin
+    idx = np.clip(np.searchsorted(ctl.t, tact.t[sel], side="right") - 1, 0, len(ctl) - 1)
+    mask = ctl["role"][idx] == ROLE_GRIP
+    if not mask.any():
+        return {}
+    err = tact["force"][sel][mask] - ctl["desired_force"][idx][mask]
+    return {"grip_force_rms_error_n": float(np.sqrt((err ** 2).mean()))}
 
 
 def _exploration(data, t_begin, transient_s=0.25):

@@ -1,0 +1,92 @@
+#include "tools/calibrate/log_data.h"
+
+#include <lcm/eventlog.h>
+
+#include <stdexcept>
+
+#include "components/runtime/channels.h"
+#include "dmpl/controller_status_t.hpp"
+#include "dmpl/object_pose_t.hpp"
+#include "dmpl/tactile_t.hpp"
+
+namespace dmpl::calib {
+namespace {
+
+std::vector<TipSample> Tips(const tactile_t& m) {
+  std::vector<TipSample> out;
+  for (const auto& f : m.fingers) {
+    out.push_back({f.in_contact != 0, Eigen::Vector3d(f.position[0], f.position[1], f.position[2]),
+                   f.force_n});
+  }
+  return out;
+}
+
+}  // namespace
+
+LogData ReadLogs(const std::vector<std::string>& paths) {
+  LogData data;
+  int64_t offset = 0;
+  for (const std::string& path : paths) {
+    lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "r");
+    if (log == nullptr) throw std::runtime_error("cannot read log '" + path + "'");
+    data.sources.push_back(path);
+    int64_t max_seq = -1;
+    for (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(log); e != nullptr;
+         e = lcm_eventlog_read_next_event(log)) {
+      ++data.messages;
+      const std::string channel(e->channel, e->channellen);
+      if (channel == channels::kTactile || channel == channels::kTactileTrue) {
+        tactile_t m;
+        if (m.decode(e->data, 0, e->datalen) >= 0) {
+          Tick& tick = data.ticks[offset + m.seq];
+          tick.t = m.utime * 1e-6;
+          if (data.fingers.empty()) {
+            for (const auto& f : m.fingers) data.fingers.push_back(f.finger);
+          }
+          if (channel == channels::kTactile) {
+            tick.sensed = Tips(m);
+            tick.has_sensed = true;
+          } else {
+            tick.truth = Tips(m);
+            tick.has_truth = true;
+          }
+          max_seq = std::max<int64_t>(max_seq, m.seq);
+        }
+      } else if (channel == channels::kControllerStatus) {
+        controller_status_t m;
+        if (m.decode(e->data, 0, e->datalen) >= 0) {
+          Tick& tick = data.ticks[offset + m.seq];
+          tick.control.clear();
+          for (const auto& f : m.fingers) {
+            ControlSample c;
+            c.role = f.role;
+            c.primitive = f.primitive;
+            c.in_contact = f.in_contact != 0;
+            c.force = f.force_n;
+            c.desired = f.desired_force_n;
+            c.tip = Eigen::Vector3d(f.tip_position[0], f.tip_position[1], f.tip_position[2]);
+            c.target =
+                Eigen::Vector3d(f.target_position[0], f.target_position[1], f.target_position[2]);
+            c.contact = Eigen::Vector3d(f.contact_position[0], f.contact_position[1],
+                                        f.contact_position[2]);
+            tick.control.push_back(c);
+          }
+          tick.has_control = true;
+        }
+      } else if (channel == channels::kObjectPose) {
+        object_pose_t m;
+        if (m.decode(e->data, 0, e->datalen) >= 0 && m.valid) {
+          Tick& tick = data.ticks[offset + m.seq];
+          tick.object_position = Eigen::Vector3d(m.position[0], m.position[1], m.position[2]);
+          tick.has_object = true;
+        }
+      }
+      lcm_eventlog_free_event(e);
+    }
+    lcm_eventlog_destroy(log);
+    offset += max_seq + 1000;
+  }
+  return data;
+}
+
+}  // namespace dmpl::calib
