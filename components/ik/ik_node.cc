@@ -96,8 +96,14 @@ class IkNode : public Node {
       status_.fingers[f].iterations = static_cast<int16_t>(r.iterations);
       if (r.status == IkStatus::kRejected) Reject("NaN target for finger " + kin_.finger(f).name());
     }
-    // The status first: whoever waits for the command can then also read the status.
-    lcm().publish(channels::kIkStatus, &status_);
+    // The status at 100 Hz and whenever a finger's status changes (every packet costs every
+    // process on the bus a wake-up); first, so that a reader of the command has it.
+    bool changed = false;
+    for (int f = 0; f < kin_.num_fingers(); ++f) {
+      changed = changed || status_.fingers[f].status != last_status_[f];
+      last_status_[f] = status_.fingers[f].status;
+    }
+    if (changed || tick % 10 == 0) lcm().publish(channels::kIkStatus, &status_);
     lcm().publish(channels::kJointCmd, &cmd_);
     set_tick(tick);
   }
@@ -111,6 +117,7 @@ class IkNode : public Node {
   finger_targets_t targets_{};
   joint_cmd_t cmd_{};
   ik_status_t status_{};
+  std::vector<int8_t> last_status_ = std::vector<int8_t>(8, -1);
   int64_t rejected_ = 0;
 };
 

@@ -121,6 +121,9 @@ void SimParams::Validate(const std::string& source) const {
   }
   for (double k : servo.kp) if (k < 0) fail("servo.kp", "gains must be >= 0");
   for (double k : servo.kd) if (k < 0) fail("servo.kd", "gains must be >= 0");
+  for (const auto& [f, k] : servo.finger_scale) {
+    if (!(k > 0) || k > 10) fail("servo.finger_scale." + f, "must be in (0, 10]");
+  }
   if (steps_per_tick < 1) fail("steps_per_tick", "must be >= 1");
   if (!(duration_s > 0)) fail("duration_s", "must be > 0");
   if (!(realtime_rate > 0)) fail("realtime_rate", "must be > 0");
@@ -402,12 +405,14 @@ void HandSim::ApplyServoTorques() {
   const btVector3 g = w.world.getGravity();
   if (servo.gravity_compensation) hand.forwardKinematics(w.scratch_q, w.scratch_v);
   for (const FingerInfo& finger : model_.fingers()) {
+    const auto scale_it = servo.finger_scale.find(finger.name);
+    const double scale = scale_it == servo.finger_scale.end() ? 1.0 : scale_it->second;
     for (size_t k = 0; k < finger.joints.size(); ++k) {
       const int a = finger.joints[k];
       const int bl = w.bullet_link_of_joint[a];
       const size_t gain = std::min(k, servo.kp.size() - 1);
-      double tau = servo.kp[gain] * (targets_[a] - hand.getJointPos(bl)) -
-                   servo.kd[gain] * hand.getJointVel(bl);
+      double tau = scale * (servo.kp[gain] * (targets_[a] - hand.getJointPos(bl)) -
+                            servo.kd[gain] * hand.getJointVel(bl));
       if (servo.gravity_compensation) {
         // tau_g = axis . sum over the subtree of (com - pivot) x m g; the servo cancels it.
         const btTransform& frame = hand.getLink(bl).m_cachedWorldTransform;

@@ -45,12 +45,14 @@ struct PhysicsParams {
 struct ServoParams {
   std::vector<double> kp = {2.0, 2.0, 1.5, 1.0};       // N*m/rad
   std::vector<double> kd = {0.03, 0.03, 0.02, 0.012};  // N*m*s/rad
+  std::map<std::string, double> finger_scale;          // finger -> factor on its kp and kd
   bool gravity_compensation = true;
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(kp));
     a->Visit(DMPL_NVP(kd));
+    a->Visit(DMPL_NVP(finger_scale));
     a->Visit(DMPL_NVP(gravity_compensation));
   }
 };

@@ -227,7 +227,9 @@ class Launcher:
         self._heartbeat_t = heartbeat_t
         self.lc = lcm.LCM(self.url)
         self.lc.subscribe(channels.HEARTBEAT, self._on_heartbeat)
-        self.selector.register(self.lc.fileno(), selectors.EVENT_READ, None)
+        # LCM is drained every loop (every 50 ms) rather than on each packet: at 1 kHz lockstep
+        # every process on the bus gets ~10 000 packets a second, and waking this Python process
+        # for each of them would take a core away from the loop it watches.
         self.seq = 0
 
     # --- output --------------------------------------------------------------------------------
@@ -344,10 +346,9 @@ class Launcher:
 
     # --- the loop ------------------------------------------------------------------------------
     def _read_ready(self, timeout):
+        while self.lc.handle_timeout(0) > 0:
+            pass
         for key, _ in self.selector.select(timeout):
-            if key.data is None:
-                self.lc.handle_timeout(0)
-                continue
             proc = key.data
             try:
                 data = os.read(key.fileobj.fileno(), 65536)
