@@ -373,8 +373,8 @@ void Supervisor::Rotate(const std::string& grippers) {
   phase_since_ = now_;
   NewTask(regrasp_.last_action());
   const double remaining = rotation_goal_ - rotation_commanded_;
-  const double step = std::copysign(std::min(task_params_.step, std::abs(remaining)), remaining);
-  RotateGoal(Axis(task_params_.axis), step);
+  step_ = std::copysign(std::min(task_params_.step, std::abs(remaining)), remaining);
+  RotateGoal(Axis(task_params_.axis), step_);
 }
 
 void Supervisor::Grip(const std::string& finger) {
@@ -414,7 +414,7 @@ std::vector<Role> Supervisor::roles() const {
   return r;
 }
 
-bool Supervisor::ConditionHolds(Condition c, int finger, double since) const {
+bool Supervisor::ConditionHolds(Condition c, int finger) const {
   switch (c) {
     case Condition::kNone: return false;
     case Condition::kContact: return finger >= 0 && view_.fingers[finger].in_contact;
@@ -423,7 +423,6 @@ bool Supervisor::ConditionHolds(Condition c, int finger, double since) const {
     case Condition::kMotionDone: return motion_done_event_ || view_.motion_done;
     case Condition::kDuration: return false;  // checked by the caller against its duration
   }
-  (void)since;
   return false;
 }
 
@@ -469,7 +468,7 @@ void Supervisor::TickLocalTask() {
     const PTask& p = seq[i];
     const bool done = p.until == Condition::kDuration
                           ? now_ - ptask_since_[f] >= p.duration_s
-                          : ConditionHolds(p.until, static_cast<int>(f), ptask_since_[f]);
+                          : ConditionHolds(p.until, static_cast<int>(f));
     if (!done) continue;
     const PTask& next = seq[++i];
     ptask_since_[f] = now_;
@@ -481,7 +480,7 @@ void Supervisor::TickLocalTask() {
   }
   const bool done = task.done_when == Condition::kDuration
                         ? now_ - task_since_ >= task.duration_s
-                        : ConditionHolds(task.done_when, -1, task_since_);
+                        : ConditionHolds(task.done_when, -1);
   if (done) {
     grasp_.Process(GraspEvent::TaskDone);
   } else if (now_ - task_since_ > task.timeout_s) {
@@ -500,7 +499,15 @@ void Supervisor::TickGait() {
       regrasp_.Process(RegraspEvent::ExploreReady);
     }
   } else if (regrasp_.rotating()) {
-    if (motion_done_event_ || view_.motion_done) {
+    // The reference needs |step| / speed to arrive; after that and a moment to settle, an object
+    // close enough to its goal has done its step.
+    const double travel = std::abs(step_) / task_params_.angular_speed;
+    const bool settled = in_phase > travel + g.settle_time_s &&
+                         view_.tracking_error_rad < g.settle_tolerance_rad;
+    if (motion_done_event_ || view_.motion_done || settled) {
+      if (!(motion_done_event_ || view_.motion_done)) {
+        Note("step settled " + std::to_string(view_.tracking_error_rad) + " rad short");
+      }
       regrasp_.Process(RegraspEvent::RotateDone);
     } else if (in_phase > g.rotate_timeout_s) {
       note_ = "a rotation step did not finish within " + std::to_string(g.rotate_timeout_s) + " s";

@@ -43,6 +43,7 @@ struct ControllerView {
   std::vector<ControllerEvent> events;
   bool motion_done = false;
   bool grasp_stable = false;
+  double tracking_error_rad = 0.0;  // the object estimate against the controller's reference
 };
 
 enum class SimRequest { kNone, kRelease, kStop };
@@ -117,7 +118,7 @@ class Supervisor : private RegraspActions {
   void TickApproach();
   void TickLocalTask();
   void TickGait();
-  bool ConditionHolds(Condition c, int finger, double since) const;
+  bool ConditionHolds(Condition c, int finger) const;
   void Note(const std::string& text);
 
   std::vector<std::string> fingers_;
@@ -154,6 +155,7 @@ class Supervisor : private RegraspActions {
   Eigen::Vector3d home_centre_ = Eigen::Vector3d::Zero();
   double phase_since_ = 0.0;
   int explorer_ = -1;
+  double step_ = 0.0;  // the rotation step under way
   Eigen::Vector3d explore_target_ = Eigen::Vector3d::Zero();
   bool gait_done_ = false;
 

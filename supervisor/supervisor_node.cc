@@ -78,6 +78,7 @@ class SupervisorNode : public Node {
     }
     view.motion_done = m->motion_done;
     view.grasp_stable = m->grasp_stable;
+    view.tracking_error_rad = m->tracking_error_rad;
     const size_t logged = core_.transitions().size();
     const SupervisorOutput& out = core_.Step(view);
     for (size_t i = logged; i < core_.transitions().size(); ++i) {

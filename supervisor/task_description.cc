@@ -97,12 +97,16 @@ struct GaitYaml {
   double explore_timeout_s = 3.0;
   double rotate_timeout_s = 5.0;
   double grip_timeout_s = 2.0;
+  double settle_tolerance_rad = 0.05;
+  double settle_time_s = 0.3;
   template <typename A>
   void Serialize(A* a) {
     a->Visit(DMPL_NVP(order));
     a->Visit(DMPL_NVP(explore_timeout_s));
     a->Visit(DMPL_NVP(rotate_timeout_s));
     a->Visit(DMPL_NVP(grip_timeout_s));
+    a->Visit(DMPL_NVP(settle_tolerance_rad));
+    a->Visit(DMPL_NVP(settle_time_s));
   }
 };
 
@@ -242,6 +246,8 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
   t.gait.explore_timeout_s = y.gait.explore_timeout_s;
   t.gait.rotate_timeout_s = y.gait.rotate_timeout_s;
   t.gait.grip_timeout_s = y.gait.grip_timeout_s;
+  t.gait.settle_tolerance_rad = y.gait.settle_tolerance_rad;
+  t.gait.settle_time_s = y.gait.settle_time_s;
   if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
   for (size_t i = 0; i < y.tasks.size(); ++i) {
     const CTaskYaml& ty = y.tasks[i];

@@ -80,6 +80,10 @@ struct GaitSpec {
   std::vector<std::string> order = {"R", "M", "F", "T"};  // the paper's cycle
   double explore_timeout_s = 3.0;
   double rotate_timeout_s = 5.0;
+  // A step whose reference has arrived and whose object stopped within this of it counts as done:
+  // the next step aims at an absolute orientation, so what is left over is not lost.
+  double settle_tolerance_rad = 0.05;
+  double settle_time_s = 0.3;
   double grip_timeout_s = 2.0;
 };
 

@@ -148,8 +148,6 @@ TEST(SupervisorTest, GaitRunsTheRegraspCycleUntilTheGoal) {
   for (int i = 0; i < 2000 && d.sup.task_name() == "gait"; ++i) {
     const RegraspChart& chart = d.sup.regrasp();
     if (chart.exploring()) {
-      const int explorer = d.sup.fingers()[0] == chart.next_explorer() ? 0 : -1;
-      (void)explorer;
       for (int f = 0; f < 4; ++f) {
         if (d.sup.roles()[f] == Role::kExplore) d.Event(EventType::kTargetReached, f);
       }
