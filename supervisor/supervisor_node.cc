@@ -26,12 +26,12 @@ class SupervisorNode : public Node {
  public:
   SupervisorNode(const NodeContext& ctx, std::vector<std::string> fingers, TaskFile tasks,
                  const TaskParams& task_params, const SupervisorParams& params)
-      : Node(ctx.name, ctx.lcm),
+      : Node(ctx.name, ctx.bus),
         params_(params),
         fingers_(fingers),
         core_(fingers, std::move(tasks), task_params, params) {
-    lcm().subscribe(channels::kControllerStatus, &SupervisorNode::OnStatus, this);
-    lcm().subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
+    listen(channels::kControllerStatus).subscribe(channels::kControllerStatus, &SupervisorNode::OnStatus, this);
+    listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
     AddTimer(0.2, [this] { CheckHeartbeats(); });
   }
 
@@ -90,7 +90,7 @@ class SupervisorNode : public Node {
       c.seq = m->seq;  // takes effect before the simulator steps from this tick
       c.command = out.sim == SimRequest::kRelease ? sim_control_t::RELEASE : sim_control_t::STOP;
       c.reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
-      lcm().publish(channels::kSimControl, &c);
+      lcm(channels::kSimControl).publish(channels::kSimControl, &c);
     }
     PublishTask(out.task, m->seq, m->utime);
     if (out.changed || m->seq % params_.status_every_ticks == 0) PublishStatus(m->seq, m->utime);
@@ -132,7 +132,7 @@ class SupervisorNode : public Node {
       m.fingers.push_back(p);
     }
     m.num_fingers = static_cast<int8_t>(m.fingers.size());
-    lcm().publish(channels::kTask, &m);
+    lcm(channels::kTask).publish(channels::kTask, &m);
   }
 
   void PublishStatus(int64_t seq, int64_t utime) {
@@ -156,7 +156,7 @@ class SupervisorNode : public Node {
     s.finished = core_.finished();
     s.failed = core_.failed();
     s.note = core_.note();
-    lcm().publish(channels::kSupervisorStatus, &s);
+    lcm(channels::kSupervisorStatus).publish(channels::kSupervisorStatus, &s);
   }
 
   SupervisorParams params_;

@@ -3,6 +3,10 @@
 // Out: DMPL_FINGER_TARGETS, DMPL_CONTROLLER_STATUS (with events).
 // Lockstep: tick k runs when the sensed data of tick k and (controller.wait_for_task) the task
 // that answers tick k-1 have arrived, so a task takes effect at a defined tick.
+#include <iterator>
+#include <limits>
+#include <map>
+
 #include "components/controller/manipulation_controller.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/lockstep.h"
@@ -38,7 +42,7 @@ void PoseTo(const Eigen::Isometry3d& t, double p[3], double q[4]) {
 class ControllerNode : public Node {
  public:
   ControllerNode(const NodeContext& ctx, HandModel model, const ControllerParams& params)
-      : Node(ctx.name, ctx.lcm),
+      : Node(ctx.name, ctx.bus),
         lockstep_(ctx.run.lockstep),
         wait_for_task_(params.wait_for_task),
         model_(std::move(model)),
@@ -56,10 +60,10 @@ class ControllerNode : public Node {
       targets_.fingers[f].finger = kin_.finger(f).name();
       status_.fingers[f].finger = kin_.finger(f).name();
     }
-    lcm().subscribe(channels::kHandState, &ControllerNode::OnHandState, this);
-    lcm().subscribe(channels::kTactile, &ControllerNode::OnTactile, this);
-    lcm().subscribe(channels::kObjectPose, &ControllerNode::OnObject, this);
-    lcm().subscribe(channels::kTask, &ControllerNode::OnTask, this);
+    listen(channels::kHandState).subscribe(channels::kHandState, &ControllerNode::OnHandState, this);
+    listen(channels::kTactile).subscribe(channels::kTactile, &ControllerNode::OnTactile, this);
+    listen(channels::kObjectPose).subscribe(channels::kObjectPose, &ControllerNode::OnObject, this);
+    listen(channels::kTask).subscribe(channels::kTask, &ControllerNode::OnTask, this);
   }
 
  private:
@@ -127,7 +131,10 @@ class ControllerNode : public Node {
       ft.target = Eigen::Vector3d(fp.target_position[0], fp.target_position[1], fp.target_position[2]);
       ft.force_n = fp.force_n;
     }
-    task_ = t;
+    // Kept by seq: tick k uses the answer to tick k - 1 even if the next one arrives first
+    // (a replay on several buses can deliver it early).
+    tasks_[m->seq] = t;
+    while (tasks_.size() > 64) tasks_.erase(tasks_.begin());
     if (m->task_id != last_task_id_) {
       last_task_id_ = m->task_id;
       log().info("task {} '{}'", m->task_id, m->name);
@@ -137,6 +144,11 @@ class ControllerNode : public Node {
 
   void Tick(int64_t tick) {
     sensed_.seq = tick;
+    // The task that answers tick - 1 (in real time: the newest there is).
+    const int64_t wanted =
+        lockstep_ && wait_for_task_ ? tick - 1 : std::numeric_limits<int64_t>::max();
+    const auto it = tasks_.upper_bound(wanted);
+    if (it != tasks_.begin()) task_ = std::prev(it)->second;
     const ControllerOutput& out = core_.Step(sensed_, task_);
     const int64_t utime = static_cast<int64_t>(sensed_.time_s * 1e6 + 0.5);
     targets_.utime = utime;
@@ -146,7 +158,7 @@ class ControllerNode : public Node {
       t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;
       for (int i = 0; i < 3; ++i) t.position[i] = out.fingers[f].target[i];
     }
-    lcm().publish(channels::kFingerTargets, &targets_);
+    lcm(channels::kFingerTargets).publish(channels::kFingerTargets, &targets_);
 
     status_.utime = utime;
     status_.seq = tick;
@@ -187,7 +199,7 @@ class ControllerNode : public Node {
       }
     }
     status_.num_events = static_cast<int16_t>(status_.events.size());
-    lcm().publish(channels::kControllerStatus, &status_);
+    lcm(channels::kControllerStatus).publish(channels::kControllerStatus, &status_);
     set_tick(tick);
   }
 
@@ -199,6 +211,7 @@ class ControllerNode : public Node {
   LockstepGate gate_;
   SensedInput sensed_;
   TaskInput task_;
+  std::map<int64_t, TaskInput> tasks_;  // by seq
   int32_t last_task_id_ = -1;
   finger_targets_t targets_{};
   controller_status_t status_{};

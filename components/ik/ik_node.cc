@@ -21,7 +21,7 @@ namespace {
 class IkNode : public Node {
  public:
   IkNode(const NodeContext& ctx, HandModel model, const IkParams& params)
-      : Node(ctx.name, ctx.lcm),
+      : Node(ctx.name, ctx.bus),
         lockstep_(ctx.run.lockstep),
         model_(std::move(model)),
         kin_(model_),
@@ -32,8 +32,8 @@ class IkNode : public Node {
     status_.num_fingers = static_cast<int8_t>(kin_.num_fingers());
     status_.fingers.resize(kin_.num_fingers());
     for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
-    lcm().subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
-    lcm().subscribe(channels::kHandState, &IkNode::OnHandState, this);
+    listen(channels::kFingerTargets).subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
+    listen(channels::kHandState).subscribe(channels::kHandState, &IkNode::OnHandState, this);
   }
 
  private:
@@ -103,8 +103,8 @@ class IkNode : public Node {
       changed = changed || status_.fingers[f].status != last_status_[f];
       last_status_[f] = status_.fingers[f].status;
     }
-    if (changed || tick % 10 == 0) lcm().publish(channels::kIkStatus, &status_);
-    lcm().publish(channels::kJointCmd, &cmd_);
+    if (changed || tick % 10 == 0) lcm(channels::kIkStatus).publish(channels::kIkStatus, &status_);
+    lcm(channels::kJointCmd).publish(channels::kJointCmd, &cmd_);
     set_tick(tick);
   }
 

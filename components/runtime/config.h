@@ -16,6 +16,7 @@ struct RunParams {
   std::string lcm_url;             // empty: --lcm-url, else $LCM_DEFAULT_URL, else the default
   int64_t seed = 1;                // noise and anything random derive from (seed, seq)
   bool lockstep = true;            // false: real time
+  bool channel_buses = true;       // udpm: each group of channels on its own port (channels.h)
   double tick_timeout_s = 2.0;     // lockstep: a missing answer after this long is a fault
   int max_tick_faults = 5;         // lockstep: give up (exit non-zero) after this many faults
   double heartbeat_period_s = 0.25;
@@ -26,6 +27,7 @@ struct RunParams {
     a->Visit(DMPL_NVP(lcm_url));
     a->Visit(DMPL_NVP(seed));
     a->Visit(DMPL_NVP(lockstep));
+    a->Visit(DMPL_NVP(channel_buses));
     a->Visit(DMPL_NVP(tick_timeout_s));
     a->Visit(DMPL_NVP(max_tick_faults));
     a->Visit(DMPL_NVP(heartbeat_period_s));

@@ -6,17 +6,20 @@
 
 namespace dmpl {
 
-LogRecorder::LogRecorder(lcm::LCM* lcm, const std::string& path, const std::string& channels)
-    : lcm_(lcm), log_(lcm_eventlog_create(path.c_str(), "w")) {
+LogRecorder::LogRecorder(LcmBus* bus, const std::string& path, const std::string& channels)
+    : log_(lcm_eventlog_create(path.c_str(), "w")) {
   if (log_ == nullptr) {
     throw std::runtime_error("cannot create log file '" + path + "': " + std::strerror(errno));
   }
-  sub_ = lcm_->subscribe(channels, &LogRecorder::OnMessage, this);
-  sub_->setQueueCapacity(1 << 20);
+  for (lcm::LCM* l : bus->All()) {
+    lcm::Subscription* sub = l->subscribe(channels, &LogRecorder::OnMessage, this);
+    sub->setQueueCapacity(1 << 20);
+    subs_.emplace_back(l, sub);
+  }
 }
 
 LogRecorder::~LogRecorder() {
-  lcm_->unsubscribe(sub_);
+  for (auto& [l, sub] : subs_) l->unsubscribe(sub);
   lcm_eventlog_destroy(log_);
 }
 

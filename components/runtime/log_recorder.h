@@ -7,13 +7,16 @@
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
+#include <vector>
+
+#include "components/runtime/lcm_bus.h"
 
 namespace dmpl {
 
 class LogRecorder {
  public:
-  // Throws std::runtime_error when the file cannot be created.
-  LogRecorder(lcm::LCM* lcm, const std::string& path, const std::string& channels = ".*");
+  // Records every bus of `bus`. Throws std::runtime_error when the file cannot be created.
+  LogRecorder(LcmBus* bus, const std::string& path, const std::string& channels = ".*");
   ~LogRecorder();
   LogRecorder(const LogRecorder&) = delete;
   LogRecorder& operator=(const LogRecorder&) = delete;
@@ -24,9 +27,8 @@ class LogRecorder {
 
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  lcm::LCM* lcm_;
   lcm_eventlog_t* log_;
-  lcm::Subscription* sub_;
+  std::vector<std::pair<lcm::LCM*, lcm::Subscription*>> subs_;
   int64_t written_ = 0;
   int64_t failed_ = 0;
 };

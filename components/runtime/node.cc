@@ -1,9 +1,11 @@
 #include "components/runtime/node.h"
 
+#include <poll.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
@@ -42,8 +44,8 @@ std::shared_ptr<spdlog::logger> MakeLogger(const std::string& name) {
   return logger;
 }
 
-Node::Node(std::string name, lcm::LCM* lcm)
-    : name_(std::move(name)), lcm_(lcm), logger_(MakeLogger(name_)) {}
+Node::Node(std::string name, LcmBus* bus)
+    : name_(std::move(name)), bus_(bus), logger_(MakeLogger(name_)) {}
 
 void Node::AddTimer(double period_s, std::function<void()> fn) {
   timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn)});
@@ -59,8 +61,8 @@ void Node::set_status(int8_t state, std::string text) {
   status_text_ = std::move(text);
 }
 
-Executor::Executor(lcm::LCM* lcm, double heartbeat_period_s)
-    : lcm_(lcm), heartbeat_period_s_(heartbeat_period_s) {}
+Executor::Executor(LcmBus* bus, double heartbeat_period_s)
+    : bus_(bus), heartbeat_period_s_(heartbeat_period_s) {}
 
 void Executor::Add(Node* node) { nodes_.push_back(node); }
 
@@ -74,7 +76,7 @@ void Executor::PublishHeartbeats(int8_t state) {
     hb.state = node->state_ == heartbeat_t::FAULT ? heartbeat_t::FAULT : state;
     hb.count = node->heartbeats_++;
     hb.status = node->status_text_;
-    lcm_->publish(channels::kHeartbeat, &hb);
+    bus_->For(channels::kHeartbeat).publish(channels::kHeartbeat, &hb);
   }
 }
 
@@ -82,6 +84,8 @@ int Executor::Spin() {
   for (Node* node : nodes_) node->OnStart();
   PublishHeartbeats(heartbeat_t::RUNNING);
   double next_heartbeat = MonotonicSeconds() + heartbeat_period_s_;
+  std::vector<lcm::LCM*> listened;
+  std::vector<pollfd> fds;
   auto any_exit = [&] {
     return std::any_of(nodes_.begin(), nodes_.end(), [](Node* n) { return n->exit_requested_; });
   };
@@ -93,11 +97,21 @@ int Executor::Spin() {
       for (const auto& t : node->timers_) next = std::min(next, t.next_s);
     }
     const int timeout_ms = std::clamp(static_cast<int>((next - now) * 1000.0) + 1, 0, 50);
-    const int handled = lcm_->handleTimeout(timeout_ms);
-    if (handled < 0 && StopSignal() == 0) {
-      nodes_.front()->log().error("LCM handleTimeout failed; stopping");
+    // Every bus subscribed on, the management bus first; a readable one has a message to handle.
+    const std::vector<lcm::LCM*>& instances = listened;
+    if (instances.size() != bus_->listened().size()) {
+      listened = bus_->listened();
+      fds.clear();
+      for (lcm::LCM* l : listened) fds.push_back({l->getFileno(), POLLIN, 0});
+    }
+    const int ready = poll(fds.data(), fds.size(), timeout_ms);
+    if (ready < 0 && errno != EINTR) {
+      nodes_.front()->log().error("poll on the LCM buses failed; stopping");
       nodes_.front()->RequestExit(1);
       break;
+    }
+    for (size_t i = 0; ready > 0 && i < instances.size(); ++i) {
+      if (fds[i].revents & POLLIN) instances[i]->handle();
     }
     now = MonotonicSeconds();
     for (Node* node : nodes_) {
@@ -180,12 +194,12 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
   auto log = MakeLogger(ctx.name);
   const std::string url = ResolveLcmUrl(cl.lcm_url, ctx.run);
   // --check builds the node on an in-process bus: it validates, and needs no network.
-  lcm::LCM lcm(cl.check ? std::string("memq://") : url);
-  if (!lcm.good()) {
+  LcmBus bus(cl.check ? std::string("memq://") : url, ctx.run.channel_buses);
+  if (!bus.good()) {
     log->critical("cannot open LCM at '{}' (is there a multicast route on lo? see README)", url);
     return 3;
   }
-  ctx.lcm = &lcm;
+  ctx.bus = &bus;
   std::unique_ptr<Node> node;
   try {
     node = make(ctx);
@@ -204,7 +218,7 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
   InstallStopSignalHandlers();
   log->info("started (pid {}, lcm {}, {})", getpid(), url,
             ctx.run.lockstep ? "lockstep" : "real time");
-  Executor executor(&lcm, ctx.run.heartbeat_period_s);
+  Executor executor(&bus, ctx.run.heartbeat_period_s);
   executor.Add(node.get());
   const int code = executor.Spin();
   rusage cpu{};

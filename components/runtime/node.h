@@ -13,19 +13,22 @@
 #include <spdlog/spdlog.h>
 
 #include "components/runtime/config.h"
+#include "components/runtime/lcm_bus.h"
 
 namespace dmpl {
 
 class Node {
  public:
-  Node(std::string name, lcm::LCM* lcm);
+  Node(std::string name, LcmBus* bus);
   virtual ~Node() = default;
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
 
   const std::string& name() const { return name_; }
   spdlog::logger& log() const { return *logger_; }
-  lcm::LCM& lcm() const { return *lcm_; }
+  // The LCM instance `channel` travels on: lcm() to publish, listen() to subscribe.
+  lcm::LCM& lcm(const std::string& channel) const { return bus_->For(channel); }
+  lcm::LCM& listen(const std::string& channel) const { return bus_->Listen(channel); }
 
   // Called once by the executor after every node was constructed (subscriptions exist).
   virtual void OnStart() {}
@@ -54,7 +57,7 @@ class Node {
   };
 
   std::string name_;
-  lcm::LCM* lcm_;
+  LcmBus* bus_;
   std::shared_ptr<spdlog::logger> logger_;
   std::vector<Timer> timers_;
   bool exit_requested_ = false;
@@ -67,7 +70,7 @@ class Node {
 
 class Executor {
  public:
-  Executor(lcm::LCM* lcm, double heartbeat_period_s);
+  Executor(LcmBus* bus, double heartbeat_period_s);
   void Add(Node* node);
   // Handles LCM traffic and timers until a stop signal or a node asks to exit. Returns the exit
   // code: 0, a node's code, or 128+signal after SIGINT/SIGTERM.
@@ -75,7 +78,7 @@ class Executor {
 
  private:
   void PublishHeartbeats(int8_t state);
-  lcm::LCM* lcm_;
+  LcmBus* bus_;
   double heartbeat_period_s_;
   std::vector<Node*> nodes_;
 };
@@ -109,7 +112,7 @@ struct NodeContext {
   std::string name;
   Config config;
   RunParams run;
-  lcm::LCM* lcm;
+  LcmBus* bus;
 };
 
 // main() of a single-node process: parses the command line, resolves the config (clear errors,

@@ -14,12 +14,12 @@ namespace {
 class JointPlayerNode : public Node {
  public:
   JointPlayerNode(const NodeContext& ctx, const HandModel& model, const JointPlayerParams& params)
-      : Node(ctx.name, ctx.lcm),
+      : Node(ctx.name, ctx.bus),
         params_(params),
         trajectory_(model, params.waypoints, ctx.config.source()) {
     cmd_.name = model.actuated_names();
     cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
-    lcm().subscribe(channels::kHandState, &JointPlayerNode::OnHandState, this);
+    listen(channels::kHandState).subscribe(channels::kHandState, &JointPlayerNode::OnHandState, this);
   }
 
  private:
@@ -39,7 +39,7 @@ class JointPlayerNode : public Node {
     cmd_.utime = m->utime;
     cmd_.seq = m->seq;
     cmd_.position = trajectory_.At(t);
-    lcm().publish(channels::kJointCmd, &cmd_);
+    lcm(channels::kJointCmd).publish(channels::kJointCmd, &cmd_);
   }
 
   void SendControl(int8_t command, int64_t seq, const std::string& reason) {
@@ -47,7 +47,7 @@ class JointPlayerNode : public Node {
     c.seq = seq;
     c.command = command;
     c.reason = reason;
-    lcm().publish(channels::kSimControl, &c);
+    lcm(channels::kSimControl).publish(channels::kSimControl, &c);
   }
 
   JointPlayerParams params_;

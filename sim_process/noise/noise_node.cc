@@ -11,10 +11,10 @@ namespace {
 class NoiseNode : public Node {
  public:
   NoiseNode(const NodeContext& ctx, const NoiseParams& params)
-      : Node(ctx.name, ctx.lcm), injector_(params, ctx.run.seed) {
-    lcm().subscribe(channels::kHandStateTrue, &NoiseNode::OnJoints, this);
-    lcm().subscribe(channels::kObjectPoseTrue, &NoiseNode::OnObject, this);
-    lcm().subscribe(channels::kTactileTrue, &NoiseNode::OnTactile, this);
+      : Node(ctx.name, ctx.bus), injector_(params, ctx.run.seed) {
+    listen(channels::kHandStateTrue).subscribe(channels::kHandStateTrue, &NoiseNode::OnJoints, this);
+    listen(channels::kObjectPoseTrue).subscribe(channels::kObjectPoseTrue, &NoiseNode::OnObject, this);
+    listen(channels::kTactileTrue).subscribe(channels::kTactileTrue, &NoiseNode::OnTactile, this);
     AddTimer(1.0, [this] { ReportRejections(); });
   }
 
@@ -22,7 +22,7 @@ class NoiseNode : public Node {
   template <typename Msg>
   void Forward(const char* channel, const Msg& truth) {
     if (auto sensed = injector_.Sense(truth)) {
-      lcm().publish(channel, &*sensed);
+      lcm(channel).publish(channel, &*sensed);
       set_tick(truth.seq);
     }
   }

@@ -32,14 +32,14 @@ constexpr int kExitLockstepFault = 4;
 class SimNode : public Node {
  public:
   SimNode(const NodeContext& ctx, HandModel model, const SimParams& sim, const ObjectParams& object)
-      : Node(ctx.name, ctx.lcm),
+      : Node(ctx.name, ctx.bus),
         run_(ctx.run),
         sim_params_(sim),
         model_(std::move(model)),
         sim_(model_, sim, object) {
-    lcm().subscribe(channels::kJointCmd, &SimNode::OnJointCmd, this);
-    lcm().subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
-    lcm().subscribe(channels::kHeartbeat, &SimNode::OnHeartbeat, this);
+    listen(channels::kJointCmd).subscribe(channels::kJointCmd, &SimNode::OnJointCmd, this);
+    listen(channels::kSimControl).subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
+    listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SimNode::OnHeartbeat, this);
     for (const auto& p : run_.lockstep_participants) waiting_for_.push_back(p);
     PrepareMessages();
     if (run_.lockstep) {
@@ -80,7 +80,7 @@ class SimNode : public Node {
     joints_msg_.position = j.position;
     joints_msg_.velocity = j.velocity;
     joints_msg_.effort = j.effort;
-    lcm().publish(channels::kHandStateTrue, &joints_msg_);
+    lcm(channels::kHandStateTrue).publish(channels::kHandStateTrue, &joints_msg_);
 
     const ObjectReading o = sim_.object();
     object_pose_t pose{};
@@ -97,7 +97,7 @@ class SimNode : public Node {
     pose.orientation[1] = q.x();
     pose.orientation[2] = q.y();
     pose.orientation[3] = q.z();
-    lcm().publish(channels::kObjectPoseTrue, &pose);
+    lcm(channels::kObjectPoseTrue).publish(channels::kObjectPoseTrue, &pose);
 
     tactile_msg_.utime = utime;
     tactile_msg_.seq = tick_;
@@ -112,7 +112,7 @@ class SimNode : public Node {
         c.normal[i] = tips[f].normal[i];
       }
     }
-    lcm().publish(channels::kTactileTrue, &tactile_msg_);
+    lcm(channels::kTactileTrue).publish(channels::kTactileTrue, &tactile_msg_);
     published_at_ = MonotonicSeconds();
     if (!run_.lockstep) publish_times_[tick_ % kLatencyWindow] = published_at_;
     set_tick(tick_);
@@ -134,7 +134,7 @@ class SimNode : public Node {
     s.late_commands = late_;
     s.step_us = step_us_;
     s.last_fault = last_fault_;
-    lcm().publish(channels::kSimStatus, &s);
+    lcm(channels::kSimStatus).publish(channels::kSimStatus, &s);
   }
 
   double TickSeconds() const { return sim_params_.physics.time_step * sim_params_.steps_per_tick; }

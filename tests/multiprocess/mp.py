@@ -1,4 +1,5 @@
-"""Helpers for multi-process tests: LCM on the test's own URL, waiting for messages, processes."""
+"""Helpers for multi-process tests: LCM on the test's own URL (each channel on its bus),
+waiting for messages, processes."""
 import os
 import signal
 import subprocess
@@ -6,7 +7,7 @@ import sys
 import tempfile
 import time
 
-import lcm
+from dmpl_tools.bus import Buses
 
 URL = os.environ.get("LCM_DEFAULT_URL", "udpm://239.255.76.67:7667?ttl=0")
 ROOT = os.environ.get("DMPL_ROOT", os.getcwd())
@@ -26,32 +27,35 @@ def pid_alive(pid):
 
 
 class Bus:
-    """An LCM instance that keeps the latest and all messages per channel."""
+    """Keeps every message received per channel; each channel on its own bus."""
 
     def __init__(self, url=URL):
-        self.lc = lcm.LCM(url)
+        self.buses = Buses(url)
         self.received = {}
 
     def listen(self, channel, msg_type):
         def handler(ch, data):
             self.received.setdefault(ch, []).append(msg_type.decode(data))
-        self.lc.subscribe(channel, handler)
+        self.buses.subscribe(channel, handler)
+
+    def subscribe(self, channel, handler):
+        self.buses.subscribe(channel, handler)
 
     def spin(self, seconds):
         end = time.monotonic() + seconds
         while time.monotonic() < end:
-            self.lc.handle_timeout(10)
+            self.buses.handle(0.01)
 
     def wait_for(self, predicate, timeout, what):
         end = time.monotonic() + timeout
         while time.monotonic() < end:
             if predicate():
                 return
-            self.lc.handle_timeout(10)
+            self.buses.handle(0.01)
         raise AssertionError(f"timed out after {timeout} s waiting for {what}")
 
     def publish(self, channel, msg):
-        self.lc.publish(channel, msg.encode())
+        self.buses.publish(channel, msg.encode())
 
 
 def launch(set_file, run_dir=None, extra=()):

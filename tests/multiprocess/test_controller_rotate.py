@@ -32,7 +32,7 @@ class Supervisor(threading.Thread):
     def __init__(self):
         super().__init__(daemon=True)
         self.bus = mp.Bus()
-        self.bus.lc.subscribe("DMPL_CONTROLLER_STATUS", self.on_status)
+        self.bus.subscribe("DMPL_CONTROLLER_STATUS", self.on_status)
         self.stop = False
         self.phase, self.task_id = "grip", 1
         self.start_pose = None
@@ -89,7 +89,7 @@ class Supervisor(threading.Thread):
         while not self.stop:
             self.bus.publish("DMPL_HEARTBEAT", hb)
             for _ in range(10):
-                self.bus.lc.handle_timeout(10)
+                self.bus.buses.handle(0.01)
 
 
 class ControllerRotateTest(unittest.TestCase):

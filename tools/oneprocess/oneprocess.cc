@@ -62,12 +62,12 @@ int main(int argc, char** argv) {
     log->critical("one-process mode runs in lockstep only (run.lockstep is false)");
     return 2;
   }
-  lcm::LCM lcm("memq://");
-  if (!lcm.good()) {
+  dmpl::LcmBus bus("memq://", false);
+  if (!bus.good()) {
     log->critical("cannot open an in-process LCM bus");
     return 3;
   }
-  ctx.lcm = &lcm;
+  ctx.bus = &bus;
   std::vector<std::unique_ptr<dmpl::Node>> nodes;
   try {
     const YAML::Node processes = ctx.config.root()["processes"];
@@ -92,18 +92,18 @@ int main(int argc, char** argv) {
   std::unique_ptr<dmpl::LogRecorder> recorder;
   if (!record.empty()) {
     try {
-      recorder = std::make_unique<dmpl::LogRecorder>(&lcm, record);
+      recorder = std::make_unique<dmpl::LogRecorder>(&bus, record);
     } catch (const std::exception& e) {
       log->critical("{}", e.what());
       return 2;
     }
   }
   dmpl::InstallStopSignalHandlers();
-  dmpl::Executor executor(&lcm, ctx.run.heartbeat_period_s);
+  dmpl::Executor executor(&bus, ctx.run.heartbeat_period_s);
   for (auto& n : nodes) executor.Add(n.get());
   const double t0 = dmpl::MonotonicSeconds();
   const int code = executor.Spin();
-  while (lcm.handleTimeout(0) > 0) {  // deliver what is still queued (the last messages)
+  while (bus.management().handleTimeout(0) > 0) {  // deliver what is still queued
   }
   log->info("{} nodes ran for {:.3f} s of wall time{}", nodes.size(), dmpl::MonotonicSeconds() - t0,
             recorder ? ", " + std::to_string(recorder->written()) + " messages recorded" : "");

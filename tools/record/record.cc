@@ -5,7 +5,10 @@
 // descheduled for a millisecond or two; it then drops messages silently. Here the queue is large,
 // and the exit code says whether every write succeeded.
 //
-// usage: dmpl_record [--lcm-url URL] [--channels REGEX] FILE
+// usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] FILE
+// Every bus of the URL is recorded (channels.h), unless --single-bus.
+#include <poll.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -21,12 +24,15 @@ void OnSignal(int) { g_stop = true; }
 
 int main(int argc, char** argv) {
   std::string url, channels = ".*", file;
+  bool single_bus = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if ((arg == "--lcm-url" || arg == "--channels") && i + 1 < argc) {
       (arg == "--lcm-url" ? url : channels) = argv[++i];
+    } else if (arg == "--single-bus") {
+      single_bus = true;
     } else if (arg == "-h" || arg == "--help") {
-      std::printf("usage: dmpl_record [--lcm-url URL] [--channels REGEX] FILE\n");
+      std::printf("usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] FILE\n");
       return 0;
     } else if (arg.rfind("--", 0) == 0 || !file.empty()) {
       std::fprintf(stderr, "dmpl_record: unexpected argument '%s' (try --help)\n", arg.c_str());
@@ -39,26 +45,38 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dmpl_record: no output FILE given\n");
     return 2;
   }
-  lcm::LCM lcm(url);
-  if (!lcm.good()) {
+  dmpl::LcmBus bus(url, !single_bus);
+  const std::vector<lcm::LCM*> instances = bus.All();
+  if (!bus.good()) {
     std::fprintf(stderr, "dmpl_record: cannot open LCM '%s'\n", url.c_str());
     return 3;
   }
+  auto drain = [&](int timeout_ms) {
+    std::vector<pollfd> fds;
+    for (lcm::LCM* l : instances) fds.push_back({l->getFileno(), POLLIN, 0});
+    int handled = 0;
+    if (poll(fds.data(), fds.size(), timeout_ms) <= 0) return 0;
+    for (size_t i = 0; i < instances.size(); ++i) {
+      if (!(fds[i].revents & POLLIN)) continue;
+      while (instances[i]->handleTimeout(0) > 0) ++handled;
+    }
+    return handled;
+  };
   try {
-    dmpl::LogRecorder recorder(&lcm, file, channels);
+    dmpl::LogRecorder recorder(&bus, file, channels);
     struct sigaction action {};
     action.sa_handler = OnSignal;
     sigaction(SIGINT, &action, nullptr);
     sigaction(SIGTERM, &action, nullptr);
     double last_flush = dmpl::MonotonicSeconds();
     while (!g_stop) {
-      lcm.handleTimeout(50);
+      drain(50);
       if (dmpl::MonotonicSeconds() - last_flush > 0.2) {
         recorder.Flush();
         last_flush = dmpl::MonotonicSeconds();
       }
     }
-    while (lcm.handleTimeout(20) > 0) {  // drain what arrived before the stop
+    while (drain(20) > 0) {  // what arrived before the stop
     }
     std::fprintf(stderr, "dmpl_record: %lld messages written to %s%s\n",
                  static_cast<long long>(recorder.written()), file.c_str(),

@@ -137,7 +137,7 @@ def main(argv=None):
         result = bench_ik()
     else:
         from .bench_loop import bench_loop
-        result = bench_loop()
+        result = bench_loop(args.rounds)
     text = json.dumps(result, indent=2)
     print(text)
     if args.json:

@@ -10,8 +10,7 @@ import sys
 import threading
 import time
 
-import lcm
-
+from .bus import Buses
 from .paths import ROOT
 from .report import make_report
 from .run import print_headline, run_experiment
@@ -28,9 +27,9 @@ class Progress:
 
     def attach(self, launcher):
         from dmpl import supervisor_status_t
-        self.lc = lcm.LCM(launcher.url)
-        self.lc.subscribe("DMPL_SUPERVISOR_STATUS",
-                          lambda ch, data: setattr(self, "last", supervisor_status_t.decode(data)))
+        self.buses = Buses(launcher.url)
+        self.buses.subscribe("DMPL_SUPERVISOR_STATUS",
+                             lambda ch, data: setattr(self, "last", supervisor_status_t.decode(data)))
         self.thread = threading.Thread(target=self._loop, daemon=True)
         self.thread.start()
 
@@ -39,8 +38,7 @@ class Progress:
         while not self.stop.is_set():
             # Drain now and then instead of waking for each of the bus's ~10 000 packets/s.
             self.stop.wait(0.1)
-            while self.lc.handle_timeout(0) > 0:
-                pass
+            self.buses.handle(0)
             if time.monotonic() >= next_print and self.last is not None:
                 s = self.last
                 goal = f" of {s.rotation_goal_rad:.2f}" if s.rotation_goal_rad else ""

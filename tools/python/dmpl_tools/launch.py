@@ -205,7 +205,7 @@ class _Proc:
 class Launcher:
     """Runs a ProcessSet until it ends, a stop is requested, or a duration passes."""
 
-    def __init__(self, pset, run_dir, lcm_url=None, record=None, echo=True, quiet_prefix=False):
+    def __init__(self, pset, run_dir, lcm_url=None, record=None, echo=True, single_bus=False):
         self.pset = pset
         self.run_dir = Path(run_dir)
         self.run_dir.mkdir(parents=True, exist_ok=True)
@@ -213,6 +213,7 @@ class Launcher:
             lcm_url or pset.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
         self.record = pset.record if record is None else record
         self.echo = echo
+        self.single_bus = single_bus
         self.procs = [_Proc(s, self.run_dir) for s in sorted(
             pset.processes, key=lambda s: s.start_order)]  # sorted() is stable: file order on ties
         self.by_name = {p.spec.name: p for p in self.procs}
@@ -336,7 +337,7 @@ class Launcher:
         log_path = self.run_dir / "run.lcmlog"
         spec = ProcessSpec(name="recorder", exec=executable("dmpl_record"),
                            args=["--lcm-url", self.url, "--channels", self.pset.record_channels,
-                                 str(log_path)],
+                                 *(["--single-bus"] if self.single_bus else []), str(log_path)],
                            required=True, stop_signal="SIGINT", stop_time_allowed=10.0)
         self.logger = _Proc(spec, self.run_dir)
         self.start(self.logger)

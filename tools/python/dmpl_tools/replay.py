@@ -6,6 +6,7 @@
   --answer CHANNEL lockstep: before publishing a message of tick k, wait until CHANNEL has
                    answered every tick before k (for re-running one process on recorded inputs)
   --compare        with --answer: compare the answers with the ones recorded in the log
+  --single-bus     publish every channel on the one URL (for lcm-spy; see channels.h's buses)
 
 Every dmpl message begins with utime and seq, so the tick of any message is read from its bytes.
 Example, the controller alone on the sensed channels and tasks of a run:
@@ -21,6 +22,7 @@ import time
 
 import lcm
 
+from .bus import Buses
 from .launch import DEFAULT_LCM_URL
 
 
@@ -45,8 +47,8 @@ def recorded(path, channel):
 
 
 class Replayer:
-    def __init__(self, url):
-        self.lc = lcm.LCM(url)
+    def __init__(self, url, separate=True):
+        self.buses = Buses(url, separate)
         self.answers = {}
 
     def on_answer(self, channel, data):
@@ -56,7 +58,7 @@ class Replayer:
         """Publishes the events. With `answer`, a message that starts a new tick (a seq above
         every one published so far) waits until the previous tick has been answered."""
         if answer:
-            self.lc.subscribe(answer, self.on_answer)
+            self.buses.subscribe(answer, self.on_answer)
         t0_log, t0 = events[0][0], time.monotonic()
         newest = None
         for stamp, channel, data in events:
@@ -69,9 +71,8 @@ class Replayer:
                     time.sleep(wait)
             if s is not None:
                 newest = s if newest is None else max(newest, s)
-            self.lc.publish(channel, data)
-            while self.lc.handle_timeout(0) > 0:
-                pass
+            self.buses.publish(channel, data)
+            self.buses.handle(0)
         if answer and newest is not None:
             self.wait_for(newest, answer, timeout)
         return len(events)
@@ -81,7 +82,7 @@ class Replayer:
         while tick not in self.answers:
             if time.monotonic() > deadline:
                 raise TimeoutError(f"no answer on {answer} for tick {tick}")
-            self.lc.handle_timeout(10)
+            self.buses.handle(0.01)
 
 
 def main(argv=None):
@@ -94,6 +95,7 @@ def main(argv=None):
     ap.add_argument("--answer")
     ap.add_argument("--compare", action="store_true")
     ap.add_argument("--lcm-url", default=None)
+    ap.add_argument("--single-bus", action="store_true")
     args = ap.parse_args(argv)
     import os
     url = args.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
@@ -105,7 +107,7 @@ def main(argv=None):
     if not events:
         print(f"dmpl replay: no events match '{args.channels}' in {args.log}", file=sys.stderr)
         return 2
-    player = Replayer(url)
+    player = Replayer(url, separate=not args.single_bus)
     print(f"dmpl replay: {len(events)} messages from {args.log} onto {url}", file=sys.stderr)
     while True:
         try:

@@ -37,7 +37,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         set_data = {"name": name, "processes": config["processes"]}
     pset = parse_set(set_data, f"{config_path}: processes", variables)
     launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
-                        echo=echo, record=record and not one_process)
+                        echo=echo, record=record and not one_process,
+                        single_bus=not config.get("run", {}).get("channel_buses", True))
     if progress:
         progress.attach(launcher)
     launcher.say(f"experiment '{name}' -> {out} (LCM {launcher.url})")
