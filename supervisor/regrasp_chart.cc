@@ -33,8 +33,8 @@ constexpr RegraspState kExploreState[4] = {RegraspState::S2, RegraspState::S3, R
 const char* const kCanonical[4] = {"T", "F", "M", "R"};
 }  // namespace
 
-RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> order)
-    : actions_(actions), order_(std::move(order)), chart_(Build()) {
+RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> order, Turn turn)
+    : actions_(actions), order_(std::move(order)), turn_(turn), chart_(Build()) {
   DMPL_DEMAND(actions_ != nullptr);
   DMPL_DEMAND(order_.size() == 4);
 }
@@ -110,6 +110,20 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
       {S::S1, E::Begin, goal, finish, S::S1},
       {S::S1, E::GripStable, goal, finish, S::S1},
   };
+  if (turn_ == Turn::kFourFingers) {
+    // explore (three hold) -> grip -> all four turn -> the next finger explores.
+    const sc::Guard gripping("gripping", [this] { return phase_ == Phase::kGripping; });
+    rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
+    rows.push_back({S::S1, E::GripStable, gripping, a1, S::S1});
+    for (int k = 0; k < 4; ++k) {
+      const S sk = kExploreState[k];
+      rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+      rows.push_back({S::S1, E::RotateDone, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+      rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
+      rows.push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
+    }
+    return sc::StateMachine<S, E>("regrasp", S::S1, std::move(rows));
+  }
   for (int k = 0; k < 4; ++k) {
     const S sk = kExploreState[k];
     rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});

@@ -3,6 +3,12 @@
 // actions A1-A13. Every role change passes through S1; the fingers explore in a configured order
 // (the paper's R, M, F, T), each time the other three turn the object by one step. The chart
 // decides; what an action means for the fingers is up to the RegraspActions it is given.
+//
+// Two ways to turn. kThreeFingers is the paper's: the explorer keeps a light contact while the
+// other three turn the object under it (A2/A5/A8/A11). kFourFingers uses only rows the paper also
+// has: the explorer moves while three hold the object still, grips again (back in S1), and then
+// all four turn it (A1). Four contacts around the object keep its position under control while it
+// turns; three leave a half-circle open on the explorer's side.
 #include <string>
 #include <vector>
 
@@ -38,7 +44,9 @@ class RegraspActions {
 class RegraspChart {
  public:
   // `order`: the exploring order (each a finger name; four of them, S2..S5 = order[0..3]).
-  RegraspChart(RegraspActions* actions, std::vector<std::string> order);
+  enum class Turn { kThreeFingers, kFourFingers };
+  RegraspChart(RegraspActions* actions, std::vector<std::string> order,
+               Turn turn = Turn::kThreeFingers);
 
   bool Process(RegraspEvent e) { return chart_.Process(e); }
   bool is(RegraspState s) const { return chart_.is(s); }
@@ -48,6 +56,7 @@ class RegraspChart {
   int regrasps() const { return regrasps_; }
   bool rotating() const { return phase_ == Phase::kRotating; }
   bool exploring() const { return phase_ == Phase::kExploring; }
+  Turn turn() const { return turn_; }
   std::string ToDot() const { return chart_.ToDot(); }
   std::string ToMermaid() const { return chart_.ToMermaid(); }
   void set_log(sc::StateMachine<RegraspState, RegraspEvent>::Log log) {
@@ -65,6 +74,7 @@ class RegraspChart {
 
   RegraspActions* actions_;
   std::vector<std::string> order_;
+  Turn turn_;
   int next_ = 0;
   int regrasps_ = 0;
   Phase phase_ = Phase::kGripping;

@@ -50,6 +50,7 @@ void TaskParams::Validate(const std::string& source) const {
   if (axis != "x" && axis != "y" && axis != "z") fail("axis", "must be x, y or z");
   if (!std::isfinite(angle)) fail("angle", "must be finite");
   if (!(step > 0) || step > 1.0) fail("step", "must be in (0, 1] rad");
+  if (turn != "three" && turn != "four") fail("turn", "must be 'four' or 'three' (the paper's)");
   if (!(angular_speed > 0)) fail("angular_speed", "must be > 0");
   if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
   if (explore_travel < 0) fail("explore_travel", "must be >= 0");
@@ -67,7 +68,9 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
       ptask_index_(fingers_.size(), 0),
       ptask_since_(fingers_.size(), 0.0),
       home_(fingers_.size(), Eigen::Vector3d::Zero()),
-      regrasp_(this, tasks_.gait.order),
+      regrasp_(this, tasks_.gait.order,
+               task_params_.turn == "three" ? RegraspChart::Turn::kThreeFingers
+                                            : RegraspChart::Turn::kFourFingers),
       grasp_(BuildGraspChart()) {
   DMPL_DEMAND(fingers_.size() == 4);
   out_.task.fingers.resize(fingers_.size());
@@ -349,11 +352,14 @@ void Supervisor::Explore(const std::string& finger) {
   explorer_ = f;
   phase_since_ = now_;
   reached_[f] = false;
-  // Back against the rotation to where the finger can follow the next (fingers - 1) steps: half
-  // of them behind its home, half ahead, so it never drifts to its joint limits.
+  // Back against the rotation to where the finger can follow the steps it turns with until it
+  // explores again (all of them, or all but its own): half of them behind its home, half ahead, so
+  // it never drifts to its joint limits.
   const double sign = task_params_.angle >= 0 ? 1.0 : -1.0;
-  const double back = -sign * task_params_.explore_travel * (fingers_.size() - 1) *
-                      task_params_.step / 2.0;
+  const double n = static_cast<double>(fingers_.size());
+  const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers;
+  const double rides = four ? n : n - 1;
+  const double back = -sign * task_params_.explore_travel * rides * task_params_.step / 2.0;
   const Eigen::AngleAxisd turn(back, Axis(task_params_.axis));
   explore_target_ = view_.object.translation() + turn * (home_[f] - home_centre_);
   NewTask(regrasp_.last_action());

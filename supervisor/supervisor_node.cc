@@ -1,8 +1,8 @@
 // dmpl_supervisor: the grasp and regrasp statecharts on LCM. Reads sections: run, hand, task,
 // supervisor. In lockstep it answers every DMPL_CONTROLLER_STATUS k with the DMPL_TASK of seq k
 // (the controller uses it at tick k + 1), so every task takes effect at a defined tick.
-//   dmpl_supervisor --dot      prints both charts (Graphviz) and exits
-//   dmpl_supervisor --mermaid  prints both charts (Mermaid, as drawn in the README) and exits
+//   dmpl_supervisor --dot      prints the charts (grasp; regrasp per task.turn; Graphviz), exits
+//   dmpl_supervisor --mermaid  the same in Mermaid, as drawn in the README
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -206,13 +206,18 @@ int main(int argc, char** argv) {
     const bool dot = std::strcmp(argv[i], "--dot") == 0;
     const bool mermaid = std::strcmp(argv[i], "--mermaid") == 0;
     if (!dot && !mermaid) continue;
-    dmpl::TaskParams task;
-    task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
+    // The grasp chart, then the regrasp chart for each way of turning (task.turn).
     const std::vector<std::string> fingers = {"T", "F", "M", "R"};
-    dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
-                       dmpl::SupervisorParams{});
-    std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n"
-              << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
+    for (const char* turn : {"three", "four"}) {
+      dmpl::TaskParams task;
+      task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
+      task.turn = turn;
+      dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
+                         dmpl::SupervisorParams{});
+      if (task.turn == "three") std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
+      std::cout << (dot ? "// " : "%% ") << "task.turn: " << turn << "\n"
+                << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
+    }
     return 0;
   }
   return dmpl::RunNodeMain(argc, argv, "dmpl_supervisor", "Reads sections: run, hand, task, supervisor.",

@@ -13,9 +13,13 @@ struct TaskParams {
   std::string axis = "x";               // rotation axis in the palm frame: x, y or z
   double angle = 0.2;                   // rad: the task's angle (local rotation, or the gait's goal)
   double step = 0.17453292519943295;    // rad: one gait step (the paper's 10 deg)
+  // Who turns the object in a gait: "four" (the explorer moves while three hold still, grips
+  // again, then all four turn: A1) or "three" (the paper's A2..A11: three turn while the explorer
+  // slides). See RegraspChart.
+  std::string turn = "four";
   double angular_speed = 0.25;          // rad/s of the object reference
   double explore_force_n = 0.1;         // the exploration finger's force (the paper's 0.1 N)
-  double explore_travel = 1.0;          // the explorer goes back (fingers - 1) * step / 2 * this
+  double explore_travel = 1.0;          // the explorer goes back (steps it rides) / 2 * step * this
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -23,6 +27,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(axis));
     a->Visit(DMPL_NVP(angle));
     a->Visit(DMPL_NVP(step));
+    a->Visit(DMPL_NVP(turn));
     a->Visit(DMPL_NVP(angular_speed));
     a->Visit(DMPL_NVP(explore_force_n));
     a->Visit(DMPL_NVP(explore_travel));

@@ -50,6 +50,41 @@ TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
   EXPECT_EQ(r.calls[1], "rotate TFM");
 }
 
+TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1) {
+  Recorder r;
+  RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
+  using E = RegraspEvent;
+  using S = RegraspState;
+  struct Step {
+    E event;
+    S state;
+    const char* action;
+  };
+  const std::vector<Step> script = {
+      {E::Begin, S::S2, "A4 R explore"},     {E::ExploreReady, S::S1, "A3 R grip"},
+      {E::GripStable, S::S1, "A1 TFMR rotate"}, {E::RotateDone, S::S3, "A7 M explore"},
+      {E::ExploreReady, S::S1, "A6 M grip"}, {E::GripStable, S::S1, "A1 TFMR rotate"},
+      {E::RotateDone, S::S4, "A10 F explore"}, {E::ExploreReady, S::S1, "A9 F grip"},
+      {E::GripStable, S::S1, "A1 TFMR rotate"}, {E::RotateDone, S::S5, "A13 T explore"},
+      {E::ExploreReady, S::S1, "A12 T grip"}, {E::GripStable, S::S1, "A1 TFMR rotate"},
+      {E::RotateDone, S::S1, "finish"},
+  };
+  for (const Step& s : script) {
+    EXPECT_TRUE(chart.Process(s.event)) << ToString(s.event);
+    EXPECT_TRUE(chart.is(s.state)) << ToString(s.event) << " -> " << ToString(chart.state());
+    EXPECT_EQ(chart.last_action(), s.action);
+  }
+  EXPECT_EQ(chart.regrasps(), 4);
+  EXPECT_EQ(r.turned, 4);
+  // Nobody turns while a finger explores: a rotation's end there is out of order.
+  RegraspChart again(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
+  r.goal = 100;
+  again.Process(E::Begin);
+  EXPECT_FALSE(again.Process(E::RotateDone));
+  EXPECT_FALSE(again.Process(E::GripStable));
+  EXPECT_TRUE(again.is(S::S2));
+}
+
 TEST(RegraspChartTest, EveryRoleChangePassesThroughS1AndOutOfOrderEventsAreIgnored) {
   Recorder r;
   r.goal = 100;

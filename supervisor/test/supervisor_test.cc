@@ -138,36 +138,58 @@ TEST(SupervisorTest, ApproachTimesOutWhenNothingIsTouched) {
   EXPECT_NE(d.sup.note().find("did not all touch"), std::string::npos);
 }
 
-TEST(SupervisorTest, GaitRunsTheRegraspCycleUntilTheGoal) {
-  TaskParams tp;
-  tp.angle = 0.35;  // two steps of 10 deg and a partial one
-  Driver d("fig10_gait", tp);
-  d.Grasp();
-  ASSERT_EQ(d.sup.task_name(), "gait");
+// Drives a gait with the controller's events answered at once; returns the chart's actions.
+std::vector<std::string> RunGait(Driver* d) {
+  d->Grasp();
+  EXPECT_EQ(d->sup.task_name(), "gait");
   std::vector<std::string> actions;
-  for (int i = 0; i < 2000 && d.sup.task_name() == "gait"; ++i) {
-    const RegraspChart& chart = d.sup.regrasp();
+  for (int i = 0; i < 2000 && d->sup.task_name() == "gait"; ++i) {
+    const RegraspChart& chart = d->sup.regrasp();
     if (chart.exploring()) {
       for (int f = 0; f < 4; ++f) {
-        if (d.sup.roles()[f] == Role::kExplore) d.Event(EventType::kTargetReached, f);
+        if (d->sup.roles()[f] == Role::kExplore) d->Event(EventType::kTargetReached, f);
       }
     } else if (chart.rotating()) {
-      d.Event(EventType::kMotionDone);
+      d->Event(EventType::kMotionDone);
     }
     const std::string before = chart.last_action();
-    d.Tick();
+    d->Tick();
     if (chart.last_action() != before) actions.push_back(chart.last_action());
   }
-  EXPECT_EQ(actions, (std::vector<std::string>{"A2 TFM rotate", "A3 R grip", "A7 M explore",
-                                               "A5 TFR rotate", "A6 M grip", "A10 F explore",
-                                               "A8 TMR rotate", "A9 F grip", "finish"}));
+  return actions;
+}
+
+TEST(SupervisorTest, GaitRunsThePapersRegraspCycleUntilTheGoal) {
+  TaskParams tp;
+  tp.turn = "three";
+  tp.angle = 0.35;  // two steps of 10 deg and a partial one
+  Driver d("fig10_gait", tp);
+  EXPECT_EQ(RunGait(&d), (std::vector<std::string>{"A2 TFM rotate", "A3 R grip", "A7 M explore",
+                                                   "A5 TFR rotate", "A6 M grip", "A10 F explore",
+                                                   "A8 TMR rotate", "A9 F grip", "finish"}));
   EXPECT_NEAR(d.sup.rotation_commanded(), 0.35, 1e-9);
   EXPECT_EQ(d.sup.regrasp().regrasps(), 3);
   EXPECT_EQ(d.sup.task_name(), "hold");
 }
 
-TEST(SupervisorTest, ExplorerGoesBackAgainstTheRotationToAComfortablePoint) {
-  Driver d("fig10_gait");
+TEST(SupervisorTest, FourFingerGaitTurnsWithAllFourAfterEachRegrasp) {
+  TaskParams tp;
+  tp.turn = "four";
+  tp.angle = 0.35;
+  Driver d("fig10_gait", tp);
+  EXPECT_EQ(RunGait(&d), (std::vector<std::string>{"A3 R grip", "A1 TFMR rotate", "A7 M explore",
+                                                   "A6 M grip", "A1 TFMR rotate", "A10 F explore",
+                                                   "A9 F grip", "A1 TFMR rotate", "finish"}));
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.35, 1e-9);
+  EXPECT_EQ(d.sup.regrasp().regrasps(), 3);
+  EXPECT_EQ(d.sup.task_name(), "hold");
+}
+
+// The explorer's target for the first step: `steps` steps back about +x from R's home.
+void ExpectExplorerBack(const std::string& turn, double steps) {
+  TaskParams tp;
+  tp.turn = turn;
+  Driver d("fig10_gait", tp);
   // Tips where a grasp of the 2.5 cm sphere puts them.
   const Eigen::Vector3d c(0.07, 0.0, 0.015);
   d.view.fingers[0].tip = c + Eigen::Vector3d(0, 0, -0.037);
@@ -181,11 +203,33 @@ TEST(SupervisorTest, ExplorerGoesBackAgainstTheRotationToAComfortablePoint) {
   EXPECT_EQ(r.role, Role::kExplore);
   EXPECT_EQ(r.primitive, Primitive::kHybrid);
   EXPECT_NEAR(r.force_n, 0.1, 1e-12);
-  // 1.5 steps back about +x: R at (0, -0.037, 0) from the centre turns by -15 deg.
   const Eigen::Vector3d expected =
-      c + Eigen::AngleAxisd(-1.5 * 0.17453292519943295, Eigen::Vector3d::UnitX()) *
+      c + Eigen::AngleAxisd(-steps * tp.step, Eigen::Vector3d::UnitX()) *
               Eigen::Vector3d(0, -0.037, 0);
-  EXPECT_LT((r.target - expected).norm(), 1e-9);
+  EXPECT_LT((r.target - expected).norm(), 1e-9) << turn;
+}
+
+TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
+  auto error = [](auto change) {
+    TaskParams tp;
+    change(&tp);
+    try {
+      tp.Validate("exp.yaml");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error([](TaskParams* t) { t->turn = "two"; }).find("key 'task.turn'"), std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->step = 0; }).find("key 'task.step'"), std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->axis = "w"; }).find("exp.yaml"), std::string::npos);
+  EXPECT_EQ(error([](TaskParams*) {}), "");
+}
+
+TEST(SupervisorTest, ExplorerGoesBackAgainstTheRotationToAComfortablePoint) {
+  // Half of the steps it rides before it explores again: three of four, or all four.
+  ExpectExplorerBack("three", 1.5);
+  ExpectExplorerBack("four", 2.0);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 """Issue 5: the paper's experiments as full process sets (sim, noise, IK, controller, supervisor)
 run by tools/dmpl run, with assertions on summary.json; variants (another radius, another axis)
 in one-process mode, which gives the same results faster. The finger-gaiting experiments run a
-shorter rotation here (two steps); the whole turns belong to sweeps and benchmarks."""
+shorter rotation here (one cycle); the whole turns belong to sweeps (tools/dmpl sweep)."""
 import sys
 import tempfile
 import unittest
@@ -44,9 +44,12 @@ class ExperimentsTest(unittest.TestCase):
             self.assertAlmostEqual(s["exploration_force_mean_n"], 0.1, delta=0.03)
 
     def test_fig10_gait_short(self):
-        # Two gait steps (R explores, TFM turn; M explores, TFR turn): the statechart's cycle.
+        # One cycle of four-finger turns (each finger explores once, all four turn 5 deg after
+        # each regrasp) on the sphere; two steps of the paper's three-finger turns (R explores
+        # while TFM turn 10 deg, then M while TFR turn) on the cylinder.
+        paper = ["task.turn=three", "task.step=0.17453292519943295"]
         for s in (run("fig10_gait_sphere", "task.angle=0.35"),
-                  run("fig10_gait_cylinder", "task.angle=0.35", one_process=True)):
+                  run("fig10_gait_cylinder", "task.angle=0.35", *paper, one_process=True)):
             self.assertEqual(s["status"], "success", s.get("problems"))
             self.assertFalse(s["object_dropped"])
             self.assertGreater(s["rotation_total_rad"], 0.35 - 0.02)

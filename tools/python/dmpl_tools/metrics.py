@@ -47,7 +47,13 @@ def compute(data, config):
     axis = AXES.get(axis_name, AXES["x"])
 
     if t_release is None:
+        # Still a verdict: a supervisor that gave up before the release failed the run.
         summary.update(object_dropped=False, note="the object was never released")
+        sup = data.supervisor
+        if len(sup):
+            summary["supervisor_state"] = sup["grasp_state"][-1]
+            summary["supervisor_finished"] = bool(sup["finished"][-1])
+            summary["supervisor_failed"] = bool(sup["failed"][-1])
         return summary
     i_rel = int(np.searchsorted(t, t_release))
     sup = data.supervisor

@@ -83,8 +83,9 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     summary["status"] = "timeout" if timed_out else ("failed" if problems else "success")
     if problems:
         summary["problems"] = problems
+    summary = _plain(summary)  # numpy scalars -> JSON's types, for every caller
     with open(out / "summary.json", "w") as f:
-        json.dump(_plain(summary), f, indent=2, sort_keys=True)
+        json.dump(summary, f, indent=2, sort_keys=True)
     return summary, out
 
 
