@@ -214,7 +214,9 @@ int main(int argc, char** argv) {
       task.turn = turn;
       dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
                          dmpl::SupervisorParams{});
-      if (task.turn == "three") std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
+      if (task.turn == "three") {
+        std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
+      }
       std::cout << (dot ? "// " : "%% ") << "task.turn: " << turn << "\n"
                 << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
     }

@@ -220,7 +220,8 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
     }
     return std::string();
   };
-  EXPECT_NE(error([](TaskParams* t) { t->turn = "two"; }).find("key 'task.turn'"), std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->turn = "two"; }).find("key 'task.turn'"),
+            std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->step = 0; }).find("key 'task.step'"), std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->axis = "w"; }).find("exp.yaml"), std::string::npos);
   EXPECT_EQ(error([](TaskParams*) {}), "");
