@@ -110,26 +110,25 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
       {S::S1, E::Begin, goal, finish, S::S1},
       {S::S1, E::GripStable, goal, finish, S::S1},
   };
-  if (turn_ == Turn::kFourFingers) {
+  const bool four = turn_ == Turn::kFourFingers;
+  if (four) {
     // explore (three hold) -> grip -> all four turn -> the next finger explores.
     const sc::Guard gripping("gripping", [this] { return phase_ == Phase::kGripping; });
     rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
     rows.push_back({S::S1, E::GripStable, gripping, a1, S::S1});
-    for (int k = 0; k < 4; ++k) {
-      const S sk = kExploreState[k];
-      rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-      rows.push_back({S::S1, E::RotateDone, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-      rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
-      rows.push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
-    }
-    return sc::StateMachine<S, E>("regrasp", S::S1, std::move(rows));
   }
   for (int k = 0; k < 4; ++k) {
     const S sk = kExploreState[k];
+    // What ends S1 for the next explorer: a step's turn with four, a grip with three.
+    const E after = four ? E::RotateDone : E::GripStable;
     rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    rows.push_back({S::S1, E::GripStable, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});
-    rows.push_back({sk, E::RotateDone, rotating, GripAction(3 + 3 * k, k), S::S1});
+    rows.push_back({S::S1, after, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+    if (four) {
+      rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
+    } else {
+      rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});
+      rows.push_back({sk, E::RotateDone, rotating, GripAction(3 + 3 * k, k), S::S1});
+    }
     rows.push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
   }
   return sc::StateMachine<S, E>("regrasp", S::S1, std::move(rows));

@@ -21,17 +21,27 @@ class Recorder : public RegraspActions {
   int goal = 4;
 };
 
+// One scripted event, the state it leads to and the action it takes.
+struct Step {
+  RegraspEvent event;
+  RegraspState state;
+  const char* action;
+};
+
+void Play(RegraspChart* chart, const std::vector<Step>& script) {
+  for (const Step& s : script) {
+    EXPECT_TRUE(chart->Process(s.event)) << ToString(s.event);
+    EXPECT_TRUE(chart->is(s.state)) << ToString(s.event) << " -> " << ToString(chart->state());
+    EXPECT_EQ(chart->last_action(), s.action);
+  }
+}
+
 TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
   Recorder r;
   RegraspChart chart(&r, {"R", "M", "F", "T"});
   using E = RegraspEvent;
   using S = RegraspState;
-  struct Step {
-    E event;
-    S state;
-    const char* action;
-  };
-  const std::vector<Step> script = {
+  Play(&chart, {
       {E::Begin, S::S2, "A4 R explore"},     {E::ExploreReady, S::S2, "A2 TFM rotate"},
       {E::RotateDone, S::S1, "A3 R grip"},   {E::GripStable, S::S3, "A7 M explore"},
       {E::ExploreReady, S::S3, "A5 TFR rotate"}, {E::RotateDone, S::S1, "A6 M grip"},
@@ -39,12 +49,7 @@ TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
       {E::RotateDone, S::S1, "A9 F grip"},   {E::GripStable, S::S5, "A13 T explore"},
       {E::ExploreReady, S::S5, "A11 FMR rotate"}, {E::RotateDone, S::S1, "A12 T grip"},
       {E::GripStable, S::S1, "finish"},
-  };
-  for (const Step& s : script) {
-    EXPECT_TRUE(chart.Process(s.event)) << ToString(s.event);
-    EXPECT_TRUE(chart.is(s.state)) << ToString(s.event) << " -> " << ToString(chart.state());
-    EXPECT_EQ(chart.last_action(), s.action);
-  }
+  });
   EXPECT_EQ(chart.regrasps(), 4);
   EXPECT_EQ(r.calls.back(), "finish");
   EXPECT_EQ(r.calls[1], "rotate TFM");
@@ -55,12 +60,7 @@ TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1)
   RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
   using E = RegraspEvent;
   using S = RegraspState;
-  struct Step {
-    E event;
-    S state;
-    const char* action;
-  };
-  const std::vector<Step> script = {
+  Play(&chart, {
       {E::Begin, S::S2, "A4 R explore"},     {E::ExploreReady, S::S1, "A3 R grip"},
       {E::GripStable, S::S1, "A1 TFMR rotate"}, {E::RotateDone, S::S3, "A7 M explore"},
       {E::ExploreReady, S::S1, "A6 M grip"}, {E::GripStable, S::S1, "A1 TFMR rotate"},
@@ -68,12 +68,7 @@ TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1)
       {E::GripStable, S::S1, "A1 TFMR rotate"}, {E::RotateDone, S::S5, "A13 T explore"},
       {E::ExploreReady, S::S1, "A12 T grip"}, {E::GripStable, S::S1, "A1 TFMR rotate"},
       {E::RotateDone, S::S1, "finish"},
-  };
-  for (const Step& s : script) {
-    EXPECT_TRUE(chart.Process(s.event)) << ToString(s.event);
-    EXPECT_TRUE(chart.is(s.state)) << ToString(s.event) << " -> " << ToString(chart.state());
-    EXPECT_EQ(chart.last_action(), s.action);
-  }
+  });
   EXPECT_EQ(chart.regrasps(), 4);
   EXPECT_EQ(r.turned, 4);
   // Nobody turns while a finger explores: a rotation's end there is out of order.

@@ -49,11 +49,8 @@ def compute(data, config):
     if t_release is None:
         # Still a verdict: a supervisor that gave up before the release failed the run.
         summary.update(object_dropped=False, note="the object was never released")
-        sup = data.supervisor
-        if len(sup):
-            summary["supervisor_state"] = sup["grasp_state"][-1]
-            summary["supervisor_finished"] = bool(sup["finished"][-1])
-            summary["supervisor_failed"] = bool(sup["failed"][-1])
+        if len(data.supervisor):
+            summary.update(_supervisor_verdict(data.supervisor))
         return summary
     i_rel = int(np.searchsorted(t, t_release))
     sup = data.supervisor
@@ -101,9 +98,7 @@ def compute(data, config):
         summary["regrasps"] = int(sup["regrasps"][-1])
         summary["rotation_commanded_rad"] = float(sup["rotation_commanded"][-1])
         summary["max_tracking_error_rad"] = _tracking_error(data, t, rotation, i_begin)
-        summary["supervisor_state"] = sup["grasp_state"][-1]
-        summary["supervisor_finished"] = bool(sup["finished"][-1])
-        summary["supervisor_failed"] = bool(sup["failed"][-1])
+        summary.update(_supervisor_verdict(sup))
         summary.update(_exploration(data, t_begin))
         summary.update(_grip_force_error(data, t_begin))
     else:
@@ -115,6 +110,12 @@ def compute(data, config):
         if last.last_fault:
             summary["last_fault"] = last.last_fault
     return summary
+
+
+def _supervisor_verdict(sup):
+    return {"supervisor_state": sup["grasp_state"][-1],
+            "supervisor_finished": bool(sup["finished"][-1]),
+            "supervisor_failed": bool(sup["failed"][-1])}
 
 
 def _longest_false_run(flags, times):
