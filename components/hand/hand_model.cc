@@ -1,5 +1,6 @@
 #include "components/hand/hand_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -55,6 +56,11 @@ int HandModel::FindFinger(const std::string& name) const {
     if (fingers_[i].name == name) return static_cast<int>(i);
   }
   return -1;
+}
+
+bool HandModel::CollisionExcluded(int link_a, int link_b) const {
+  const std::pair<int, int> pair(std::min(link_a, link_b), std::max(link_a, link_b));
+  return std::find(exclusions_.begin(), exclusions_.end(), pair) != exclusions_.end();
 }
 
 HandModel HandModel::Load(const HandParams& params) {
@@ -205,6 +211,17 @@ HandModel HandModel::Load(const HandParams& params) {
     if (model.joints_[j].type == JointInfo::Type::kRevolute && !claimed[j]) {
       FailUrdf(file, "revolute joint '" + model.joints_[j].name + "' is on no finger's chain");
     }
+  }
+  for (size_t i = 0; i < params.self_collision_exclude.size(); ++i) {
+    const auto& [a, b] = params.self_collision_exclude[i];
+    const int la = model.FindLink(a), lb = model.FindLink(b);
+    const std::string key = "hand.self_collision_exclude[" + std::to_string(i) + "]";
+    if (la < 0 || lb < 0) {
+      throw ConfigError("config error: key '" + key + "': link '" + (la < 0 ? a : b) +
+                        "' is not in " + file);
+    }
+    if (la == lb) throw ConfigError("config error: key '" + key + "': a link with itself");
+    model.exclusions_.emplace_back(std::min(la, lb), std::max(la, lb));
   }
   return model;
 }

@@ -67,6 +67,9 @@ class HandModel {
   int FindLink(const std::string& name) const;
   int FindFinger(const std::string& name) const;
   double tip_radius() const { return tip_radius_; }
+  // Link index pairs (smaller first) that must not collide with each other (hand.self_collision_exclude).
+  const std::vector<std::pair<int, int>>& collision_exclusions() const { return exclusions_; }
+  bool CollisionExcluded(int link_a, int link_b) const;
 
  private:
   std::string urdf_path_;
@@ -75,6 +78,7 @@ class HandModel {
   std::vector<FingerInfo> fingers_;
   std::vector<int> actuated_;
   double tip_radius_ = 0.012;
+  std::vector<std::pair<int, int>> exclusions_;
 };
 
 }  // namespace dmpl

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 
@@ -23,12 +24,17 @@ struct HandParams {
   std::vector<FingerParams> fingers = {
       {"T", "T_tip"}, {"F", "F_tip"}, {"M", "M_tip"}, {"R", "R_tip"}};
   double tip_radius = 0.012;  // m; the controller offsets contact points by it
+  // Link pairs that never collide with each other (parent/child pairs never do), like an SRDF's
+  // disabled collisions. The thumb's base is mounted inside the palm's box: without this the palm
+  // pins T_link1 and the thumb cannot turn its first joint below ~1.07 rad.
+  std::vector<std::array<std::string, 2>> self_collision_exclude = {{"palm", "T_link1"}};
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(urdf));
     a->Visit(DMPL_NVP(fingers));
     a->Visit(DMPL_NVP(tip_radius));
+    a->Visit(DMPL_NVP(self_collision_exclude));
   }
 };
 

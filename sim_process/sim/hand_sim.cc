@@ -151,6 +151,25 @@ void ObjectParams::Validate(const std::string& source) const {
   if (restitution < 0 || restitution > 1) fail("restitution", "must be in [0, 1]");
 }
 
+// A link collider that also skips the hand's excluded link pairs (hand.self_collision_exclude);
+// Bullet itself only knows to skip a link's parent.
+class HandLinkCollider : public btMultiBodyLinkCollider {
+ public:
+  HandLinkCollider(btMultiBody* body, int bullet_link, const HandModel& model)
+      : btMultiBodyLinkCollider(body, bullet_link), model_(model) {}
+  bool checkCollideWithOverride(const btCollisionObject* co) const override {
+    const btMultiBodyLinkCollider* other = btMultiBodyLinkCollider::upcast(co);
+    if (other != nullptr && other->m_multiBody == m_multiBody &&
+        model_.CollisionExcluded(m_link + 1, other->m_link + 1)) {
+      return false;
+    }
+    return btMultiBodyLinkCollider::checkCollideWithOverride(co);
+  }
+
+ private:
+  const HandModel& model_;
+};
+
 // Everything Bullet, rebuilt by Reset().
 struct HandSim::World {
   btDefaultCollisionConfiguration config;
@@ -259,7 +278,7 @@ void HandSim::Build() {
       w.shapes.push_back(MakeShape(c, p.collision_margin));
       compound->addChildShape(ToBt(local), w.shapes.back().get());
     }
-    auto collider = std::make_unique<btMultiBodyLinkCollider>(w.hand.get(), l - 1);
+    auto collider = std::make_unique<HandLinkCollider>(w.hand.get(), l - 1, model_);
     collider->setCollisionShape(compound.get());
     collider->setFriction(sim_.tactile.finger_friction);
     collider->setRollingFriction(0.0);

@@ -37,6 +37,7 @@ std::string LoadError(const std::string& body, std::vector<FingerParams> fingers
   HandParams p;
   p.urdf = WriteUrdf(body);
   p.fingers = fingers;
+  p.self_collision_exclude.clear();  // the default names links of dmpl_hand.urdf
   try {
     HandModel::Load(p);
   } catch (const ConfigError& e) {
@@ -81,6 +82,25 @@ TEST(HandModelTest, BadUrdfsGiveClearErrors) {
   EXPECT_NE(LoadError(ok, {{"A", "nope"}}).find("tip link 'nope' is not in the URDF"),
             std::string::npos);
   EXPECT_NE(LoadError(ok, {}).find("hand.fingers is empty"), std::string::npos);
+}
+
+TEST(HandModelTest, CollisionExclusionsNameLinksOfTheUrdf) {
+  const HandModel model = HandModel::Load(DefaultHand());
+  const int palm = model.FindLink("palm"), t1 = model.FindLink("T_link1");
+  EXPECT_TRUE(model.CollisionExcluded(t1, palm));
+  EXPECT_TRUE(model.CollisionExcluded(palm, t1));
+  EXPECT_FALSE(model.CollisionExcluded(palm, model.FindLink("F_link1")));
+  HandParams bad = DefaultHand();
+  bad.self_collision_exclude = {{"palm", "T_link1"}, {"palm", "thumb_typo"}};
+  try {
+    HandModel::Load(bad);
+    FAIL() << "an unknown link was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("hand.self_collision_exclude[1]"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("thumb_typo"), std::string::npos);
+  }
+  bad.self_collision_exclude = {{"palm", "palm"}};
+  EXPECT_THROW(HandModel::Load(bad), ConfigError);
 }
 
 }  // namespace

@@ -178,3 +178,45 @@ TEST(HandSimTest, ObjectShapesAndBadObjects) {
 
 }  // namespace
 }  // namespace dmpl
+
+namespace dmpl {
+namespace {
+
+// The thumb's first joint over the range the grasps use (0.7-1.2 rad; below ~0.4 the thumb meets
+// the forefinger), the fingers open as in the experiments and no object near: each target is
+// reached (free space, gravity compensated: the servo error is ~0). Without
+// the palm/T_link1 exclusion the palm box, which contains the thumb's base, pins T_link1 and
+// T_j0 cannot go below ~1.07 rad.
+double WorstThumbBaseError(const HandModel& model) {
+  SimParams sim;
+  sim.initial_joints = {{"T", {0.9313, 1.1132, 0.918, 1.4364}},
+                        {"F", {0.1421, 0.6607, 1.3099, 1.0883}},
+                        {"M", {0.0, 0.2216, 0.9624, 0.9505}},
+                        {"R", {-0.1421, 0.6607, 1.3099, 1.0883}}};
+  ObjectParams object;
+  object.position = {0.3, 0.5, 0.5};
+  HandSim hand(model, sim, object);
+  double worst = 0.0;
+  for (double target : {0.7, 0.8, 0.9, 1.0, 1.2}) {
+    std::vector<double> q = hand.joint_targets();
+    q[0] = target;  // T_j0
+    std::string why;
+    EXPECT_TRUE(hand.SetJointTargets(q, &why)) << why;
+    for (int i = 0; i < 400; ++i) hand.Step();
+    worst = std::max(worst, std::abs(hand.joints().position[0] - target));
+  }
+  return worst;
+}
+
+TEST(HandSimTest, TheThumbBaseMovesFreelyAcrossItsRange) {
+  const HandModel model = LoadHand();
+  ASSERT_EQ(model.actuated_names()[0], "T_j0");
+  EXPECT_LT(WorstThumbBaseError(model), 0.01);
+  HandParams without;
+  without.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
+  without.self_collision_exclude.clear();
+  EXPECT_GT(WorstThumbBaseError(HandModel::Load(without)), 0.1) << "the palm no longer pins it";
+}
+
+}  // namespace
+}  // namespace dmpl
