@@ -13,10 +13,10 @@ struct TaskParams {
   std::string axis = "x";               // rotation axis in the palm frame: x, y or z
   double angle = 0.2;                   // rad: the task's angle (local rotation, or the gait's goal)
   double step = 0.17453292519943295;    // rad: one gait step (the paper's 10 deg)
-  // Who turns the object in a gait: "four" (the explorer moves while three hold still, grips
-  // again, then all four turn: A1) or "three" (the paper's A2..A11: three turn while the explorer
-  // slides). See RegraspChart.
-  std::string turn = "four";
+  // Who turns the object in a gait: "three" (the paper's A2..A11: three turn while the explorer
+  // slides) or "four" (the explorer moves while three hold still, grips again, then all four
+  // turn: A1). See RegraspChart.
+  std::string turn = "three";
   double angular_speed = 0.25;          // rad/s of the object reference
   double explore_force_n = 0.1;         // the exploration finger's force (the paper's 0.1 N)
   double explore_travel = 1.0;          // the explorer goes back (steps it rides) / 2 * step * this

@@ -40,8 +40,10 @@ class CalibrationTest(unittest.TestCase):
         self.assertIn("std. dev.", report)
 
     def test_calibrated_gains_are_not_worse_on_fig8(self):
-        default, run = run_experiment(EXP / "fig8_sphere.yaml", tempfile.mkdtemp(), echo=False,
-                                      one_process=True)
+        default, _ = run_experiment(EXP / "fig8_sphere.yaml", tempfile.mkdtemp(), echo=False,
+                                    one_process=True)
+        _, run = run_experiment(EXP / "calibration_run.yaml", tempfile.mkdtemp(), echo=False,
+                                one_process=True)
         params = run / "calibration.yaml"
         r = calibrate(run / "run.lcmlog", params)
         self.assertEqual(r.returncode, 0, r.stderr)
@@ -55,6 +57,15 @@ class CalibrationTest(unittest.TestCase):
                              default["final_orientation_error_rad"] + 0.002)
         self.assertLessEqual(tuned["grip_force_rms_error_n"],
                              default["grip_force_rms_error_n"] * 1.05)
+
+    def test_a_steady_grip_is_no_excitation(self):
+        # fig8 alone holds every force near 0.8 N: scale and bias cannot be told apart.
+        _, run = run_experiment(EXP / "fig8_sphere.yaml", tempfile.mkdtemp(), echo=False,
+                                one_process=True)
+        r = calibrate(run / "run.lcmlog", run / "calibration.yaml")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("no excitation", r.stderr)
+        self.assertFalse((run / "calibration.yaml").exists())
 
     def test_bad_logs_are_clear_errors_and_write_nothing(self):
         # The drop experiment has no controller: the gains cannot be identified.

@@ -44,15 +44,19 @@ class ExperimentsTest(unittest.TestCase):
             self.assertAlmostEqual(s["exploration_force_mean_n"], 0.1, delta=0.03)
 
     def test_fig10_gait_short(self):
-        # One cycle of four-finger turns (each finger explores once, all four turn 5 deg after
-        # each regrasp) on the sphere; two steps of the paper's three-finger turns (R explores
-        # while TFM turn 10 deg, then M while TFR turn) on the cylinder.
-        for s in (run("fig10_gait_sphere", "task.angle=0.35"),
-                  run("fig10_gait_cylinder", "task.angle=0.35", one_process=True)):
+        # A few steps of the configured gait (R, then M explore while three hold; all four turn
+        # 5 deg after each regrasp) on the sphere and the cylinder, and of the paper's (R explores
+        # while TFM turn 10 deg, then M while TFR turn) on the sphere.
+        for s in (run("fig10_gait_sphere", "task.angle=0.2"),
+                  run("fig10_gait_cylinder", "task.angle=0.2", one_process=True),
+                  run("fig10_gait_sphere", "task.angle=0.35", "task.turn=three",
+                      "task.step=0.17453292519943295", one_process=True)):
             self.assertEqual(s["status"], "success", s.get("problems"))
             self.assertFalse(s["object_dropped"])
-            self.assertGreater(s["rotation_total_rad"], 0.35 - 0.02)
-            self.assertGreaterEqual(s["regrasps"], 1)
+            self.assertEqual(s["contacts_lost"], 0)
+            self.assertGreater(s["rotation_total_rad"], s["rotation_commanded_rad"] - 0.02)
+            self.assertGreater(s["rotation_commanded_rad"], 0.19)
+            self.assertGreaterEqual(s["regrasps"], 2)
 
 
 if __name__ == "__main__":
