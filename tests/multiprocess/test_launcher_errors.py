@@ -44,6 +44,26 @@ class LauncherErrorsTest(unittest.TestCase):
         self.assert_rejected("name: x\nprocesses:\n  - {name: a, exec: sleep, args: ['${nope}']}\n",
                              "unknown variable ${nope}")
         self.assert_rejected("name: [\n", "YAML syntax error")
+        self.assert_rejected("name: x\ncpus: [4096]\nprocesses:\n  - {name: a, exec: sleep}\n",
+                             "CPU 4096 is not available")
+        self.assert_rejected("name: x\nprocesses:\n  - {name: a, exec: sleep, cpus: [one]}\n",
+                             "expects CPU numbers")
+
+    def test_cpus_pin_the_processes(self):
+        # The set's cpus apply to every process that names none; -1 is the last CPU.
+        last = sorted(os.sched_getaffinity(0))[-1]
+        r, _ = run_set("""
+            name: pinned
+            cpus: [-1]
+            processes:
+              - {name: b, exec: sh, args: [-c, "grep Cpus_allowed_list /proc/self/status; sleep 5"],
+                 cpus: [0]}
+              - {name: a, exec: sh, args: [-c, "grep Cpus_allowed_list /proc/self/status; sleep 1"],
+                 exit_ends_set: true}
+            """)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertRegex(r.stdout, rf"\[a\] Cpus_allowed_list:\s+{last}\n")
+        self.assertRegex(r.stdout, r"\[b\] Cpus_allowed_list:\s+0\n")
 
     def test_failing_process_fails_the_set(self):
         r, _ = run_set("""

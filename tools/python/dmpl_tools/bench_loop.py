@@ -2,13 +2,17 @@
 measured side by side in one run, and the raw LCM hop measured by the benchmark itself.
 
 Keys: rtf_multiprocess, rtf_oneprocess (steady state, from the simulator's own clock, recording
-off; the median of three alternating rounds), tick_us_multiprocess, tick_us_oneprocess, tick_overhead_us (what multi-process adds per
+off, the loop pinned to the last CPU as `tools/dmpl run --cpus -1` does; the median of three
+alternating rounds), rtf_multiprocess_unpinned (the same, the scheduler free to move processes),
+tick_us_multiprocess, tick_us_oneprocess, tick_overhead_us (what multi-process adds per
 tick), lcm_hop_us (half a ping-pong round trip of a message of the loop's mean size between two
-processes), hops_per_tick (sim -> noise -> controller -> IK -> sim), overhead_vs_raw =
+processes on the loop's CPU; lcm_hop_us_unpinned with the scheduler free), hops_per_tick
+(sim -> noise -> controller -> IK -> sim), overhead_vs_raw =
 tick_overhead_us / (hops_per_tick * lcm_hop_us); in real time, latency_p50_us and latency_p99_us
 from a sensor tick to the command that answers it; and the CPU time per tick of each process.
 """
 import json
+import os
 import re
 import statistics
 import subprocess
@@ -20,6 +24,7 @@ from pathlib import Path
 import lcm
 
 from .paths import ROOT, executable
+from .launch import resolve_cpus
 from .run import run_experiment
 
 SCENARIO = ROOT / "configs/experiments/fig8_sphere.yaml"
@@ -29,10 +34,13 @@ HOP_CHANNELS = ["DMPL_HAND_STATE_TRUE", "DMPL_TACTILE_TRUE", "DMPL_OBJECT_POSE_T
 HOPS_PER_TICK = 4
 
 
-def _run(tmp, tag, one_process, sets=()):
+LOOP_CPUS = [-1]
+
+
+def _run(tmp, tag, one_process, sets=(), cpus=LOOP_CPUS):
     stats = Path(tmp) / f"{tag}.json"
     run_experiment(SCENARIO, Path(tmp) / tag, sets=[f"sim.stats_file={stats}", *sets],
-                   echo=False, one_process=one_process, record=False)
+                   echo=False, one_process=one_process, record=False, cpus=cpus)
     return json.loads(stats.read_text()), Path(tmp) / tag
 
 
@@ -45,12 +53,15 @@ def _mean_message_bytes(tmp):
     return int(statistics.mean(sizes)) if sizes else 600
 
 
-def _hop_us(nbytes):
-    echo = subprocess.Popen([executable("dmpl_bench_lcm_hop"), "echo"])
+def _hop_us(nbytes, cpus=None):
+    """Half the median ping-pong round trip; both ends on `cpus` when given (as the loop runs)."""
+    pin = (lambda: os.sched_setaffinity(0, cpus)) if cpus else None
+    echo = subprocess.Popen([executable("dmpl_bench_lcm_hop"), "echo"], preexec_fn=pin)
     try:
         time.sleep(0.3)
         out = subprocess.run([executable("dmpl_bench_lcm_hop"), "ping", "--bytes", str(nbytes)],
-                             capture_output=True, text=True, check=True, timeout=120)
+                             capture_output=True, text=True, check=True, timeout=120,
+                             preexec_fn=pin)
         return json.loads(out.stdout)
     finally:
         echo.terminate()
@@ -73,24 +84,35 @@ def bench_loop(rounds=3):
     machine's timing wanders from one second to the next."""
     with tempfile.TemporaryDirectory(prefix="dmpl_bench_loop_") as tmp:
         nbytes = _mean_message_bytes(tmp)
-        hop = _hop_us(nbytes)
-        multis, ones = [], []
+        loop_cpus = resolve_cpus(LOOP_CPUS, "bench loop")
+        hop = _hop_us(nbytes, loop_cpus)
+        hop_free = _hop_us(nbytes)
+        multis, ones, frees = [], [], []
         for r in range(rounds):
             multis.append(_run(tmp, f"multi{r}", one_process=False))
             ones.append(_run(tmp, f"one{r}", one_process=True))
+            frees.append(_run(tmp, f"free{r}", one_process=False, cpus=None))
             print(f"round {r + 1}/{rounds}: multi-process {multis[-1][0]['tick_us']:.0f} us/tick, "
-                  f"one-process {ones[-1][0]['tick_us']:.0f} us/tick", file=sys.stderr)
+                  f"one-process {ones[-1][0]['tick_us']:.0f} us/tick, multi-process unpinned "
+                  f"{frees[-1][0]['tick_us']:.0f} us/tick", file=sys.stderr)
         multi, multi_dir = sorted(multis, key=lambda x: x[0]["tick_us"])[rounds // 2]
         one = sorted((o[0] for o in ones), key=lambda x: x["tick_us"])[rounds // 2]
-        realtime, _ = _run(tmp, "realtime", one_process=False, sets=["run.lockstep=false"])
+        free = sorted((f[0] for f in frees), key=lambda x: x["tick_us"])[rounds // 2]
+        # Real time as a real hand runs it: the scheduler free (pinned, the simulator's clock
+        # competes with the nodes for one CPU and commands come late).
+        realtime, _ = _run(tmp, "realtime", one_process=False, sets=["run.lockstep=false"],
+                           cpus=None)
         overhead = multi["tick_us"] - one["tick_us"]
         result = {
             "rtf_multiprocess": multi["realtime_factor"],
             "rtf_oneprocess": one["realtime_factor"],
+            "rtf_multiprocess_unpinned": free["realtime_factor"],
+            "loop_cpus": LOOP_CPUS,
             "tick_us_multiprocess": multi["tick_us"],
             "tick_us_oneprocess": one["tick_us"],
             "tick_overhead_us": overhead,
             "lcm_hop_us": hop["lcm_hop_us"],
+            "lcm_hop_us_unpinned": hop_free["lcm_hop_us"],
             "lcm_hop_bytes": nbytes,
             "hops_per_tick": HOPS_PER_TICK,
             "overhead_vs_raw": overhead / (HOPS_PER_TICK * hop["lcm_hop_us"]),

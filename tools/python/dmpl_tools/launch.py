@@ -19,6 +19,11 @@ A set file:
         stop_signal: SIGINT
         stop_time_allowed: 5.0                  # then SIGKILL
         exit_ends_set: false                    # when this process exits, stop the set
+        cpus: [-1]                              # CPU affinity (negative: from the last CPU)
+
+A set-level `cpus` applies to every process that names none; the recorder then runs on the
+other CPUs. Pinning a lockstep loop to one CPU makes each hop a local wakeup instead of an
+inter-processor one (on a 2-core VM the loop runs ~1.5x faster and steadier).
 
 Each process runs in its own process group (killed as a group: no orphans) with its output
 prefixed on the console and kept in RUN_DIR/<name>.log. Process status goes out on
@@ -65,11 +70,11 @@ PROCESS_KEYS = {
     "name": str, "exec": str, "args": list, "env": dict, "group": str, "start_order": int,
     "wait_for_heartbeat": bool, "heartbeat_timeout_s": (int, float), "auto_respawn": bool,
     "respawn_delay_s": (int, float), "max_restarts": int, "stop_signal": str,
-    "stop_time_allowed": (int, float), "exit_ends_set": bool, "required": bool,
+    "stop_time_allowed": (int, float), "exit_ends_set": bool, "required": bool, "cpus": list,
 }
 SET_KEYS = {
     "name": str, "lcm_url": str, "record": bool, "record_channels": str, "processes": list,
-    "heartbeat_timeout_s": (int, float), "status_period_s": (int, float),
+    "heartbeat_timeout_s": (int, float), "status_period_s": (int, float), "cpus": list,
 }
 
 
@@ -90,6 +95,7 @@ class ProcessSpec:
     stop_time_allowed: float = 5.0
     exit_ends_set: bool = False
     required: bool = True
+    cpus: list = field(default_factory=list)  # resolved CPU ids; empty: no affinity
 
 
 @dataclass
@@ -101,6 +107,24 @@ class ProcessSet:
     record_channels: str = ".*"
     heartbeat_timeout_s: float = 10.0
     status_period_s: float = 0.5
+    cpus: list = field(default_factory=list)
+
+
+def resolve_cpus(cpus, where):
+    """CPU ids from a `cpus` list: a non-negative entry is a CPU id, a negative one counts from
+    the last CPU this process may use (-1: the last). An unavailable CPU is a SetError."""
+    available = sorted(os.sched_getaffinity(0))
+    out = []
+    for c in cpus:
+        if isinstance(c, bool) or not isinstance(c, int):
+            raise SetError(f"{where}: key 'cpus' expects CPU numbers, got {c!r}")
+        cpu = available[c] if -len(available) <= c < 0 else c
+        if cpu not in available:
+            raise SetError(f"{where}: key 'cpus': CPU {c} is not available (CPUs here: "
+                           f"{', '.join(map(str, available))})")
+        if cpu not in out:
+            out.append(cpu)
+    return out
 
 
 def _check_keys(where, data, schema):
@@ -147,6 +171,7 @@ def parse_set(data, source, variables):
             raise SetError(f"{where}: duplicate process name '{p['name']}'")
         names.add(p["name"])
         spec = ProcessSpec(**p)
+        spec.cpus = resolve_cpus(spec.cpus or data.get("cpus", []), where)
         spec.args = [substitute(a, variables) for a in spec.args]
         spec.env = {str(k): substitute(v, variables) for k, v in spec.env.items()}
         try:
@@ -160,6 +185,8 @@ def parse_set(data, source, variables):
                            "max_restarts >= 0")
         procs.append(spec)
     fields = {k: v for k, v in data.items() if k != "processes"}
+    if "cpus" in fields:
+        fields["cpus"] = resolve_cpus(fields["cpus"], source)
     if "lcm_url" in fields:
         fields["lcm_url"] = substitute(fields["lcm_url"], variables)
     pset = ProcessSet(processes=procs, **fields)
@@ -302,7 +329,7 @@ class Launcher:
             proc.popen = subprocess.Popen(
                 cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                 env=self._env(spec), cwd=str(ROOT), start_new_session=True,
-                preexec_fn=_die_with_parent)
+                preexec_fn=lambda: _child_setup(spec.cpus))
         except OSError as e:
             self.say(f"{spec.name}: cannot start: {e}")
             proc.state = "failed"
@@ -335,10 +362,14 @@ class Launcher:
         if not self.record:
             return
         log_path = self.run_dir / "run.lcmlog"
+        # Off the loop's CPUs when the set is pinned: it reads every message of every tick.
+        loop_cpus = {c for p in self.pset.processes for c in p.cpus}
+        others = sorted(set(os.sched_getaffinity(0)) - loop_cpus) if loop_cpus else []
         spec = ProcessSpec(name="recorder", exec=executable("dmpl_record"),
                            args=["--lcm-url", self.url, "--channels", self.pset.record_channels,
                                  *(["--single-bus"] if self.single_bus else []), str(log_path)],
-                           required=True, stop_signal="SIGINT", stop_time_allowed=10.0)
+                           required=True, stop_signal="SIGINT", stop_time_allowed=10.0,
+                           cpus=others)
         self.logger = _Proc(spec, self.run_dir)
         self.start(self.logger)
         self.logger.state = "running"
@@ -500,13 +531,16 @@ class Launcher:
         return 0
 
 
-def _die_with_parent():
-    """Child side: die when the launcher dies, even by SIGKILL (Linux prctl PR_SET_PDEATHSIG)."""
+def _child_setup(cpus):
+    """Child side: die when the launcher dies, even by SIGKILL (Linux prctl PR_SET_PDEATHSIG);
+    run on `cpus` (checked by resolve_cpus) when given."""
     try:
         import ctypes
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
     except OSError:
         pass
+    if cpus:
+        os.sched_setaffinity(0, cpus)
 
 
 def _peek_name(path):

@@ -12,10 +12,12 @@ from .paths import BUILD, ROOT
 
 
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
-                   echo=True, progress=None, one_process=False, record=True):
+                   echo=True, progress=None, one_process=False, record=True, cpus=None):
     """Runs one experiment and returns its summary (also written to OUT/summary.json).
 
-    one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results)."""
+    one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results).
+    cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
+    the recorder then runs on the others."""
     config = experiment.resolve(config_path, params, sets, seed)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
@@ -35,6 +37,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         set_data = {"name": name, "processes": processes, "record": False}
     else:
         set_data = {"name": name, "processes": config["processes"]}
+    if cpus:
+        set_data["cpus"] = list(cpus)
     pset = parse_set(set_data, f"{config_path}: processes", variables)
     launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
                         echo=echo, record=record and not one_process,
@@ -127,6 +131,14 @@ def add_common_args(ap):
                     "dmpl default)")
 
 
+def cpu_list(text):
+    """--cpus 1 / --cpus -1 / --cpus 0,1 -> [ints]"""
+    try:
+        return [int(c) for c in text.split(",") if c.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected CPU numbers like 1 or -1 or 0,1, got '{text}'")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="tools/dmpl run", description=__doc__)
     add_common_args(ap)
@@ -134,11 +146,14 @@ def main(argv=None):
     ap.add_argument("--quiet", action="store_true", help="keep process output in the log files only")
     ap.add_argument("--one-process", action="store_true",
                     help="run every node in one process on memq:// (lockstep; same results)")
+    ap.add_argument("--cpus", type=cpu_list, metavar="LIST",
+                    help="pin the experiment's processes to these CPUs (-1: the last); the "
+                    "recorder runs on the others")
     args = ap.parse_args(argv)
     try:
         summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
                                       args.lcm_url, echo=not args.quiet,
-                                      one_process=args.one_process)
+                                      one_process=args.one_process, cpus=args.cpus)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2

@@ -7,6 +7,8 @@ set instead, each trial on its own LCM port. Writes DIR/sweep.md (a table) and D
 """
 import argparse
 import json
+import os
+import queue
 import statistics
 import sys
 import threading
@@ -68,13 +70,26 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
     out.mkdir(parents=True, exist_ok=True)
     lock = threading.Lock()
     done = []
+    # With no more trials at a time than CPUs, each trial runs on a CPU of its own (a pinned
+    # loop wakes its processes locally; see launch.py); otherwise the scheduler places them.
+    available = sorted(os.sched_getaffinity(0))
+    pinned = jobs <= len(available)
+    cpus = queue.Queue()
+    for c in available:
+        cpus.put(c)
 
     def trial(i):
         seed = first_seed + i
         url = None if one_process else f"udpm://239.255.76.67:{port_base + i}?ttl=0"
-        summary, _ = run_experiment(config_path, out / f"seed{seed}", seed=seed, sets=sets,
-                                    params=params, lcm_url=url, echo=False,
-                                    one_process=one_process)
+        cpu = cpus.get() if pinned else None
+        try:
+            summary, _ = run_experiment(config_path, out / f"seed{seed}", seed=seed, sets=sets,
+                                        params=params, lcm_url=url, echo=False,
+                                        one_process=one_process,
+                                        cpus=None if cpu is None else [cpu])
+        finally:
+            if cpu is not None:
+                cpus.put(cpu)
         with lock:
             done.append(seed)
             print(f"[sweep] seed {seed}: {summary['status']}, rotation "
