@@ -67,7 +67,7 @@ class HandModel {
   int FindLink(const std::string& name) const;
   int FindFinger(const std::string& name) const;
   double tip_radius() const { return tip_radius_; }
-  // Link index pairs (smaller first) that must not collide with each other (hand.self_collision_exclude).
+  // Link index pairs (smaller first) that never collide (hand.self_collision_exclude).
   const std::vector<std::pair<int, int>>& collision_exclusions() const { return exclusions_; }
   bool CollisionExcluded(int link_a, int link_b) const;
 

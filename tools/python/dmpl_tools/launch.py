@@ -23,7 +23,7 @@ A set file:
 
 A set-level `cpus` applies to every process that names none; the recorder then runs on the
 other CPUs. Pinning a lockstep loop to one CPU makes each hop a local wakeup instead of an
-inter-processor one (on a 2-core VM the loop runs ~1.5x faster and steadier).
+inter-processor one (measured on a 2-core VM: 1.2-2x faster per tick, and steadier).
 
 Each process runs in its own process group (killed as a group: no orphans) with its output
 prefixed on the console and kept in RUN_DIR/<name>.log. Process status goes out on
