@@ -1,8 +1,10 @@
 """tools/dmpl run CONFIG: one experiment -> DIR/summary.json and DIR/run.lcmlog (DESIGN.md §6)."""
 import argparse
 import json
+import multiprocessing
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from . import experiment, metrics
@@ -59,8 +61,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     if not record:
         summary["note"] = "not recorded: no metrics"
     elif log_path.exists():
-        data = LogData(log_path)
-        summary.update(metrics.compute(data, config))
+        summary.update(compute_metrics(log_path, config))
     else:
         summary["error"] = "no log was recorded"
     summary["wall_time_s"] = wall
@@ -91,6 +92,17 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     with open(out / "summary.json", "w") as f:
         json.dump(summary, f, indent=2, sort_keys=True)
     return summary, out
+
+
+def _metrics_of(log_path, config):
+    return _plain(metrics.compute(LogData(log_path), config))
+
+
+def compute_metrics(log_path, config):
+    """The run's metrics from its log, in a process of their own: decoding a long log is a minute
+    of pure Python, and a sweep's trials (threads) would otherwise take turns at the GIL."""
+    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return pool.submit(_metrics_of, log_path, config).result()
 
 
 def _plain(value):
