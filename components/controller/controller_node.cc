@@ -1,5 +1,5 @@
 // dmpl_controller: the local manipulation controller on LCM. Reads sections: run, hand, controller.
-// In: DMPL_HAND_STATE, DMPL_TACTILE, DMPL_OBJECT_POSE (sensed), DMPL_TASK.
+// In: DMPL_SENSORS (sensed joints, object pose, fingertips), DMPL_TASK.
 // Out: DMPL_FINGER_TARGETS, DMPL_CONTROLLER_STATUS (with events).
 // Lockstep: tick k runs when the sensed data of tick k and (controller.wait_for_task) the task
 // that answers tick k-1 have arrived, so a task takes effect at a defined tick.
@@ -14,10 +14,8 @@
 #include "components/runtime/node_factories.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/finger_targets_t.hpp"
+#include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
-#include "dmpl/joint_state_t.hpp"
-#include "dmpl/object_pose_t.hpp"
-#include "dmpl/tactile_t.hpp"
 #include "dmpl/task_cmd_t.hpp"
 
 namespace dmpl {
@@ -60,53 +58,42 @@ class ControllerNode : public Node {
       targets_.fingers[f].finger = kin_.finger(f).name();
       status_.fingers[f].finger = kin_.finger(f).name();
     }
-    listen(channels::kHandState).subscribe(channels::kHandState, &ControllerNode::OnHandState, this);
-    listen(channels::kTactile).subscribe(channels::kTactile, &ControllerNode::OnTactile, this);
-    listen(channels::kObjectPose).subscribe(channels::kObjectPose, &ControllerNode::OnObject, this);
+    listen(channels::kSensors).subscribe(channels::kSensors, &ControllerNode::OnSensors, this);
     listen(channels::kTask).subscribe(channels::kTask, &ControllerNode::OnTask, this);
   }
 
  private:
-  enum Input : size_t { kHand = 0, kTactileIn = 1, kObject = 2, kTaskIn = 3 };
+  enum Input : size_t { kSensorsIn = 0, kTaskIn = 1 };
 
   static LockstepGate MakeGate(bool wait_for_task) {
-    std::vector<LockstepGate::Input> inputs = {{"hand_state", 0, 0}, {"tactile", 0, 0},
-                                               {"object_pose", 0, 0}};
+    std::vector<LockstepGate::Input> inputs = {{"sensors", 0, 0}};
     if (wait_for_task) inputs.push_back({"task", -1, 1});
     return LockstepGate(inputs);
   }
 
   void Arrived(Input input, int64_t seq) {
     if (!lockstep_) {
-      // Real time: run on every sensed joint state with the latest of everything else.
-      if (input == kHand) Tick(seq);
+      // Real time: run on every sensed tick with the latest task.
+      if (input == kSensorsIn) Tick(seq);
       return;
     }
     if (input == kTaskIn && !wait_for_task_) return;  // the gate has no task input
     if (auto tick = gate_.Arrive(input, seq)) Tick(*tick);
   }
 
-  void OnHandState(const lcm::ReceiveBuffer*, const std::string&, const joint_state_t* m) {
-    sensed_.q = m->position;
+  void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* m) {
+    sensed_.q = m->joints.position;
     sensed_.seq = m->seq;
     sensed_.time_s = m->utime * 1e-6;
-    Arrived(kHand, m->seq);
-  }
-
-  void OnTactile(const lcm::ReceiveBuffer*, const std::string&, const tactile_t* m) {
-    for (const auto& t : m->fingers) {
+    for (const auto& t : m->tactile.fingers) {
       const int f = kin_.FindFinger(t.finger);
       if (f < 0) continue;
       sensed_.tips[f] = {t.in_contact != 0, Eigen::Vector3d(t.position[0], t.position[1], t.position[2]),
                          t.force_n};
     }
-    Arrived(kTactileIn, m->seq);
-  }
-
-  void OnObject(const lcm::ReceiveBuffer*, const std::string&, const object_pose_t* m) {
-    sensed_.object_valid = m->valid;
-    sensed_.object = PoseFrom(m->position, m->orientation);
-    Arrived(kObject, m->seq);
+    sensed_.object_valid = m->object.valid;
+    sensed_.object = PoseFrom(m->object.position, m->object.orientation);
+    Arrived(kSensorsIn, m->seq);
   }
 
   void OnTask(const lcm::ReceiveBuffer*, const std::string&, const task_cmd_t* m) {

@@ -1,5 +1,6 @@
 // dmpl_ik: Cartesian fingertip targets (DMPL_FINGER_TARGETS) -> joint command (DMPL_JOINT_CMD).
-// Lockstep: answers tick k once both the targets and the sensed hand state of tick k arrived.
+// Lockstep: answers tick k once both the targets and the sensed joints (DMPL_SENSORS) of tick k
+// arrived.
 // Reads sections: run, hand, ik.
 #include <cmath>
 
@@ -10,6 +11,7 @@
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
 #include "dmpl/finger_targets_t.hpp"
+#include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/ik_status_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
@@ -33,11 +35,12 @@ class IkNode : public Node {
     status_.fingers.resize(kin_.num_fingers());
     for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
     listen(channels::kFingerTargets).subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
-    listen(channels::kHandState).subscribe(channels::kHandState, &IkNode::OnHandState, this);
+    listen(channels::kSensors).subscribe(channels::kSensors, &IkNode::OnSensors, this);
   }
 
  private:
-  void OnHandState(const lcm::ReceiveBuffer*, const std::string&, const joint_state_t* m) {
+  void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* sensors) {
+    const joint_state_t* m = &sensors->joints;
     if (m->num_joints != kin_.num_joints() || static_cast<int>(m->position.size()) != m->num_joints) {
       Reject("hand state with " + std::to_string(m->num_joints) + " joints");
       return;

@@ -3,14 +3,11 @@
 // `inline constexpr char kName[] = "DMPL_...";` one per line.
 namespace dmpl::channels {
 
-// Simulator -> noise injector (ground truth; only the noise injector and metrics read these).
-inline constexpr char kHandStateTrue[] = "DMPL_HAND_STATE_TRUE";
-inline constexpr char kObjectPoseTrue[] = "DMPL_OBJECT_POSE_TRUE";
-inline constexpr char kTactileTrue[] = "DMPL_TACTILE_TRUE";
-// Noise injector -> controller, IK (what a real hand would sense).
-inline constexpr char kHandState[] = "DMPL_HAND_STATE";
-inline constexpr char kObjectPose[] = "DMPL_OBJECT_POSE";
-inline constexpr char kTactile[] = "DMPL_TACTILE";
+// Simulator -> noise injector: the ground truth of a tick, joints + object + fingertips in one
+// hand_sensors_t (only the noise injector and metrics read it).
+inline constexpr char kSensorsTrue[] = "DMPL_SENSORS_TRUE";
+// Noise injector -> controller, IK, joint player: what a real hand would sense, same type.
+inline constexpr char kSensors[] = "DMPL_SENSORS";
 // Controller -> IK -> simulator.
 inline constexpr char kFingerTargets[] = "DMPL_FINGER_TARGETS";
 inline constexpr char kJointCmd[] = "DMPL_JOINT_CMD";
@@ -31,9 +28,9 @@ inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
 // wakes only for the channels it may want. Keep the form `{kName, bus},` one per line (tools/python
 // reads it). Channels whose relative order matters share a bus (JOINT_CMD and SIM_CONTROL: a
 // control sent in answer to tick s must reach the simulator before the command for tick s + 1).
-inline constexpr int kNumBuses = 8;
+inline constexpr int kNumBuses = 7;
 inline constexpr const char* kBusNames[kNumBuses] = {
-    "management", "truth", "sensed", "joint_state", "targets", "joints", "task", "status"};
+    "management", "truth", "sensed", "targets", "joints", "task", "status"};
 struct ChannelBus {
   const char* channel;
   int bus;
@@ -42,19 +39,15 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kHeartbeat, 0},
     {kProcessStatus, 0},
     {kSimStatus, 0},
-    {kHandStateTrue, 1},
-    {kObjectPoseTrue, 1},
-    {kTactileTrue, 1},
-    {kObjectPose, 2},
-    {kTactile, 2},
-    {kHandState, 3},
-    {kFingerTargets, 4},
-    {kJointCmd, 5},
-    {kIkStatus, 5},
-    {kSimControl, 5},
-    {kTask, 6},
-    {kControllerStatus, 7},
-    {kSupervisorStatus, 7},
+    {kSensorsTrue, 1},
+    {kSensors, 2},
+    {kFingerTargets, 3},
+    {kJointCmd, 4},
+    {kIkStatus, 4},
+    {kSimControl, 4},
+    {kTask, 5},
+    {kControllerStatus, 6},
+    {kSupervisorStatus, 6},
 };
 
 }  // namespace dmpl::channels

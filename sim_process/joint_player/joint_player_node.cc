@@ -1,10 +1,10 @@
 // dmpl_joint_player: plays a joint-space trajectory (section joint_player) onto DMPL_JOINT_CMD,
-// answering each sensed hand state tick in lockstep. Reads sections: run, hand, joint_player.
+// answering each sensed tick (DMPL_SENSORS) in lockstep. Reads sections: run, hand, joint_player.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
+#include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
-#include "dmpl/joint_state_t.hpp"
 #include "dmpl/sim_control_t.hpp"
 #include "sim_process/joint_player/joint_trajectory.h"
 
@@ -19,11 +19,11 @@ class JointPlayerNode : public Node {
         trajectory_(model, params.waypoints, ctx.config.source()) {
     cmd_.name = model.actuated_names();
     cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
-    listen(channels::kHandState).subscribe(channels::kHandState, &JointPlayerNode::OnHandState, this);
+    listen(channels::kSensors).subscribe(channels::kSensors, &JointPlayerNode::OnSensors, this);
   }
 
  private:
-  void OnHandState(const lcm::ReceiveBuffer*, const std::string&, const joint_state_t* m) {
+  void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* m) {
     if (m->seq <= last_seq_) return;  // every tick answered once
     last_seq_ = m->seq;
     set_tick(m->seq);

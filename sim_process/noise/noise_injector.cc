@@ -194,4 +194,23 @@ std::optional<tactile_t> NoiseInjector::Sense(const tactile_t& truth) {
   return out;
 }
 
+std::optional<hand_sensors_t> NoiseInjector::Sense(const hand_sensors_t& truth) {
+  if (truth.joints.seq != truth.seq || truth.object.seq != truth.seq ||
+      truth.tactile.seq != truth.seq) {
+    Reject("sensors of tick " + std::to_string(truth.seq) + " with parts of other ticks");
+    return std::nullopt;
+  }
+  auto joints = Sense(truth.joints);
+  auto object = Sense(truth.object);
+  auto tactile = Sense(truth.tactile);
+  if (!joints || !object || !tactile) return std::nullopt;
+  hand_sensors_t out;
+  out.utime = truth.utime;
+  out.seq = truth.seq;
+  out.joints = std::move(*joints);
+  out.object = *object;
+  out.tactile = std::move(*tactile);
+  return out;
+}
+
 }  // namespace dmpl

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/joint_state_t.hpp"
 #include "dmpl/object_pose_t.hpp"
 #include "dmpl/tactile_t.hpp"
@@ -23,6 +24,9 @@ class NoiseInjector {
   std::optional<joint_state_t> Sense(const joint_state_t& truth);
   std::optional<object_pose_t> Sense(const object_pose_t& truth);
   std::optional<tactile_t> Sense(const tactile_t& truth);
+  // A whole tick: each part as above (the same draws), or nullopt when any part is malformed or
+  // the parts disagree on the tick.
+  std::optional<hand_sensors_t> Sense(const hand_sensors_t& truth);
 
   int64_t rejected() const { return rejected_; }
   int64_t dropped() const { return dropped_; }

@@ -1,4 +1,4 @@
-// dmpl_noise: ground truth in, sensed channels out (DESIGN.md §1). Reads sections `run`, `noise`.
+// dmpl_noise: DMPL_SENSORS_TRUE in, DMPL_SENSORS out (DESIGN.md §1). Reads sections `run`, `noise`.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
@@ -12,28 +12,16 @@ class NoiseNode : public Node {
  public:
   NoiseNode(const NodeContext& ctx, const NoiseParams& params)
       : Node(ctx.name, ctx.bus), injector_(params, ctx.run.seed) {
-    listen(channels::kHandStateTrue).subscribe(channels::kHandStateTrue, &NoiseNode::OnJoints, this);
-    listen(channels::kObjectPoseTrue).subscribe(channels::kObjectPoseTrue, &NoiseNode::OnObject, this);
-    listen(channels::kTactileTrue).subscribe(channels::kTactileTrue, &NoiseNode::OnTactile, this);
+    listen(channels::kSensorsTrue).subscribe(channels::kSensorsTrue, &NoiseNode::OnSensors, this);
     AddTimer(1.0, [this] { ReportRejections(); });
   }
 
  private:
-  template <typename Msg>
-  void Forward(const char* channel, const Msg& truth) {
-    if (auto sensed = injector_.Sense(truth)) {
-      lcm(channel).publish(channel, &*sensed);
-      set_tick(truth.seq);
+  void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* truth) {
+    if (auto sensed = injector_.Sense(*truth)) {
+      lcm(channels::kSensors).publish(channels::kSensors, &*sensed);
+      set_tick(truth->seq);
     }
-  }
-  void OnJoints(const lcm::ReceiveBuffer*, const std::string&, const joint_state_t* m) {
-    Forward(channels::kHandState, *m);
-  }
-  void OnObject(const lcm::ReceiveBuffer*, const std::string&, const object_pose_t* m) {
-    Forward(channels::kObjectPose, *m);
-  }
-  void OnTactile(const lcm::ReceiveBuffer*, const std::string&, const tactile_t* m) {
-    Forward(channels::kTactile, *m);
   }
   void ReportRejections() {
     if (injector_.rejected() == reported_) return;

@@ -16,12 +16,10 @@
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
 #include "dmpl/heartbeat_t.hpp"
+#include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
-#include "dmpl/joint_state_t.hpp"
-#include "dmpl/object_pose_t.hpp"
 #include "dmpl/sim_control_t.hpp"
 #include "dmpl/sim_status_t.hpp"
-#include "dmpl/tactile_t.hpp"
 #include "sim_process/sim/hand_sim.h"
 
 namespace dmpl {
@@ -60,30 +58,35 @@ class SimNode : public Node {
   // --- messages -----------------------------------------------------------------------------
   void PrepareMessages() {
     const auto names = model_.actuated_names();
-    joints_msg_.num_joints = static_cast<int16_t>(names.size());
-    joints_msg_.name = names;
-    joints_msg_.position.resize(names.size());
-    joints_msg_.velocity.resize(names.size());
-    joints_msg_.effort.resize(names.size());
-    tactile_msg_.num_fingers = static_cast<int8_t>(model_.fingers().size());
-    tactile_msg_.fingers.resize(model_.fingers().size());
+    joint_state_t& joints = sensors_msg_.joints;
+    joints.num_joints = static_cast<int16_t>(names.size());
+    joints.name = names;
+    joints.position.resize(names.size());
+    joints.velocity.resize(names.size());
+    joints.effort.resize(names.size());
+    tactile_t& tactile = sensors_msg_.tactile;
+    tactile.num_fingers = static_cast<int8_t>(model_.fingers().size());
+    tactile.fingers.resize(model_.fingers().size());
     for (size_t f = 0; f < model_.fingers().size(); ++f) {
-      tactile_msg_.fingers[f].finger = model_.fingers()[f].name;
+      tactile.fingers[f].finger = model_.fingers()[f].name;
     }
   }
 
+  // The truth of this tick, in one message (hand_sensors_t).
   void PublishState() {
     const int64_t utime = std::llround(sim_.time() * 1e6);
+    sensors_msg_.utime = utime;
+    sensors_msg_.seq = tick_;
     const JointReading j = sim_.joints();
-    joints_msg_.utime = utime;
-    joints_msg_.seq = tick_;
-    joints_msg_.position = j.position;
-    joints_msg_.velocity = j.velocity;
-    joints_msg_.effort = j.effort;
-    lcm(channels::kHandStateTrue).publish(channels::kHandStateTrue, &joints_msg_);
+    joint_state_t& joints = sensors_msg_.joints;
+    joints.utime = utime;
+    joints.seq = tick_;
+    joints.position = j.position;
+    joints.velocity = j.velocity;
+    joints.effort = j.effort;
 
     const ObjectReading o = sim_.object();
-    object_pose_t pose{};
+    object_pose_t& pose = sensors_msg_.object;
     pose.utime = utime;
     pose.seq = tick_;
     pose.valid = true;
@@ -97,13 +100,13 @@ class SimNode : public Node {
     pose.orientation[1] = q.x();
     pose.orientation[2] = q.y();
     pose.orientation[3] = q.z();
-    lcm(channels::kObjectPoseTrue).publish(channels::kObjectPoseTrue, &pose);
 
-    tactile_msg_.utime = utime;
-    tactile_msg_.seq = tick_;
+    tactile_t& tactile = sensors_msg_.tactile;
+    tactile.utime = utime;
+    tactile.seq = tick_;
     const auto& tips = sim_.tactile();
     for (size_t f = 0; f < tips.size(); ++f) {
-      fingertip_contact_t& c = tactile_msg_.fingers[f];
+      fingertip_contact_t& c = tactile.fingers[f];
       c.in_contact = tips[f].in_contact;
       c.force_n = tips[f].force;
       c.num_points = static_cast<int16_t>(tips[f].points);
@@ -112,7 +115,7 @@ class SimNode : public Node {
         c.normal[i] = tips[f].normal[i];
       }
     }
-    lcm(channels::kTactileTrue).publish(channels::kTactileTrue, &tactile_msg_);
+    lcm(channels::kSensorsTrue).publish(channels::kSensorsTrue, &sensors_msg_);
     published_at_ = MonotonicSeconds();
     if (!run_.lockstep) publish_times_[tick_ % kLatencyWindow] = published_at_;
     set_tick(tick_);
@@ -196,10 +199,10 @@ class SimNode : public Node {
             std::to_string(model_.num_actuated());
     } else {
       for (int i = 0; i < model_.num_actuated() && ok; ++i) {
-        if (cmd.name[i] != joints_msg_.name[i]) {
+        if (cmd.name[i] != sensors_msg_.joints.name[i]) {
           ok = false;
           why = "joint command names joint " + std::to_string(i) + " '" + cmd.name[i] +
-                "', expected '" + joints_msg_.name[i] + "'";
+                "', expected '" + sensors_msg_.joints.name[i] + "'";
         }
       }
       ok = ok && sim_.SetJointTargets(cmd.position, &why);
@@ -361,8 +364,7 @@ class SimNode : public Node {
   SimParams sim_params_;
   HandModel model_;
   HandSim sim_;
-  joint_state_t joints_msg_;
-  tactile_t tactile_msg_;
+  hand_sensors_t sensors_msg_{};
   std::vector<std::string> waiting_for_;
   std::deque<sim_control_t> controls_;
   bool started_ = false;

@@ -8,7 +8,8 @@ import sys
 import unittest
 
 import mp
-from dmpl import object_pose_t, process_status_t, tactile_t, fingertip_contact_t
+from dmpl import (fingertip_contact_t, hand_sensors_t, joint_state_t, object_pose_t,
+                  process_status_t, tactile_t)
 
 SET = os.path.join(mp.ROOT, "configs/sets/noise.yaml")
 SIGMA = 0.005   # configs/sets/noise_params.yaml
@@ -34,12 +35,20 @@ def truth_tactile(seq):
     return m
 
 
+def truth(seq):
+    m = hand_sensors_t()
+    m.utime, m.seq = seq * 1000, seq
+    m.joints = joint_state_t()
+    m.joints.utime, m.joints.seq = m.utime, seq
+    m.object, m.tactile = truth_pose(seq), truth_tactile(seq)
+    return m
+
+
 class LauncherNoiseTest(unittest.TestCase):
     def test_set(self):
         bus = mp.Bus()
         bus.listen("DMPL_PROCESS_STATUS", process_status_t)
-        bus.listen("DMPL_OBJECT_POSE", object_pose_t)
-        bus.listen("DMPL_TACTILE", tactile_t)
+        bus.listen("DMPL_SENSORS", hand_sensors_t)
         proc, run_dir = mp.launch(SET)
         pids = set()
         try:
@@ -57,15 +66,15 @@ class LauncherNoiseTest(unittest.TestCase):
             # Lockstep-style: publish truth k, wait for sensed k.
             xs, forces = [], []
             for k in range(N):
-                bus.publish("DMPL_OBJECT_POSE_TRUE", truth_pose(k))
-                bus.publish("DMPL_TACTILE_TRUE", truth_tactile(k))
-                bus.wait_for(lambda: len(bus.received.get("DMPL_OBJECT_POSE", [])) > k and
-                             len(bus.received.get("DMPL_TACTILE", [])) > k, 5, f"sensed seq {k}")
-                pose = bus.received["DMPL_OBJECT_POSE"][k]
-                self.assertEqual(pose.seq, k)
-                self.assertEqual(bus.received["DMPL_TACTILE"][k].seq, k)
-                xs.append(pose.position[0])
-                forces.append(bus.received["DMPL_TACTILE"][k].fingers[0].force_n)
+                bus.publish("DMPL_SENSORS_TRUE", truth(k))
+                bus.wait_for(lambda: len(bus.received.get("DMPL_SENSORS", [])) > k, 5,
+                             f"sensed seq {k}")
+                sensed = bus.received["DMPL_SENSORS"][k]
+                self.assertEqual(sensed.seq, k)
+                self.assertEqual(sensed.object.seq, k)
+                self.assertEqual(sensed.tactile.seq, k)
+                xs.append(sensed.object.position[0])
+                forces.append(sensed.tactile.fingers[0].force_n)
             for values, mean, sigma in ((xs, 0.05, SIGMA), (forces, 0.5, FORCE_SIGMA)):
                 m, s = statistics.fmean(values), statistics.stdev(values)
                 self.assertLess(abs(m - mean), 3 * sigma / math.sqrt(N))
@@ -77,10 +86,10 @@ class LauncherNoiseTest(unittest.TestCase):
                          and noise_info().pid not in (0, first_pid), 20, "dmpl_noise respawned")
             pids.add(noise_info().pid)
             # It works again.
-            count = len(bus.received["DMPL_OBJECT_POSE"])
-            bus.publish("DMPL_OBJECT_POSE_TRUE", truth_pose(N))
-            bus.wait_for(lambda: len(bus.received["DMPL_OBJECT_POSE"]) > count, 5,
-                         "sensed pose after respawn")
+            count = len(bus.received["DMPL_SENSORS"])
+            bus.publish("DMPL_SENSORS_TRUE", truth(N))
+            bus.wait_for(lambda: len(bus.received["DMPL_SENSORS"]) > count, 5,
+                         "sensed tick after respawn")
         finally:
             code = mp.stop(proc)
         self.assertEqual(code, 0, "a clean stop exits 0")

@@ -68,7 +68,7 @@ class MainJobTest(unittest.TestCase):
         try:
             time.sleep(0.5)
             r = subprocess.run([sys.executable, "-m", "dmpl_tools.replay", str(out / "run.lcmlog"),
-                                "--channels", "DMPL_(HAND_STATE|TACTILE|OBJECT_POSE|TASK)$",
+                                "--channels", "DMPL_(SENSORS|TASK)$",
                                 "--answer", "DMPL_FINGER_TARGETS", "--compare"], cwd=mp.ROOT,
                                capture_output=True, text=True, timeout=300)
         finally:

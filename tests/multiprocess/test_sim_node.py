@@ -11,7 +11,7 @@ import time
 import unittest
 
 import mp
-from dmpl import heartbeat_t, joint_cmd_t, joint_state_t, sim_status_t
+from dmpl import hand_sensors_t, heartbeat_t, joint_cmd_t, sim_status_t
 
 CONFIG = """
 run: {lockstep: true, lockstep_participants: [test_driver], tick_timeout_s: 0.3, max_tick_faults: 2}
@@ -30,7 +30,9 @@ def write(text, suffix=".yaml"):
 class SimNodeTest(unittest.TestCase):
     def test_lockstep_commands_rejections_and_faults(self):
         bus = mp.Bus()
-        bus.listen("DMPL_HAND_STATE_TRUE", joint_state_t)
+        # The joints of every tick's truth.
+        bus.subscribe("DMPL_SENSORS_TRUE", lambda ch, data: bus.received.setdefault(ch, []).append(
+            hand_sensors_t.decode(data).joints))
         bus.listen("DMPL_SIM_STATUS", sim_status_t)
         sim = subprocess.Popen([os.path.join(os.environ["DMPL_BUILD_DIR"], "bin", "dmpl_sim"),
                                 "--config", write(CONFIG)], cwd=mp.ROOT)
@@ -38,8 +40,8 @@ class SimNodeTest(unittest.TestCase):
             hb = heartbeat_t()
             hb.process, hb.pid, hb.state = "test_driver", os.getpid(), heartbeat_t.RUNNING
             bus.wait_for(lambda: (bus.publish("DMPL_HEARTBEAT", hb) or True) and
-                         bus.received.get("DMPL_HAND_STATE_TRUE"), 10, "tick 0")
-            states = bus.received["DMPL_HAND_STATE_TRUE"]
+                         bus.received.get("DMPL_SENSORS_TRUE"), 10, "tick 0")
+            states = bus.received["DMPL_SENSORS_TRUE"]
             names = list(states[0].name)
             q0 = list(states[0].position)
 

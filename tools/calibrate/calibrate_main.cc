@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   try {
     const dmpl::calib::LogData data = dmpl::calib::ReadLogs(logs);
     if (data.ticks.empty() || data.fingers.empty()) {
-      throw dmpl::calib::DataError("no DMPL_TACTILE/DMPL_TACTILE_TRUE messages in the logs");
+      throw dmpl::calib::DataError("no DMPL_SENSORS/DMPL_SENSORS_TRUE messages in the logs");
     }
     std::cerr << "dmpl calibrate: " << data.messages << " messages, " << data.ticks.size()
               << " ticks from " << logs.size() << " log(s)\n";

@@ -150,7 +150,7 @@ FitResult FitForce(const LogData& data) {
   }
   if (samples.size() < kMinSamples) {
     throw DataError("tactile force: " + std::to_string(samples.size()) +
-                    " contact samples with both DMPL_TACTILE and DMPL_TACTILE_TRUE; need at least " +
+                    " contact samples with both DMPL_SENSORS and DMPL_SENSORS_TRUE; need at least " +
                     std::to_string(kMinSamples));
   }
   std::vector<double> truth;
@@ -197,7 +197,7 @@ FitResult FitContactOffset(const LogData& data) {
   }
   if (samples.size() < kMinSamples) {
     throw DataError("contact position: " + std::to_string(samples.size()) +
-                    " contact samples with both DMPL_TACTILE and DMPL_TACTILE_TRUE; need at least " +
+                    " contact samples with both DMPL_SENSORS and DMPL_SENSORS_TRUE; need at least " +
                     std::to_string(kMinSamples));
   }
   for (const auto& [t, s] : samples) {
@@ -241,7 +241,7 @@ FitResult FitSurface(const LogData& data, const Eigen::Vector3d& offset) {
   }
   if (points.size() < kMinSamples) {
     throw DataError("surface: " + std::to_string(points.size()) +
-                    " contact points on DMPL_TACTILE; need at least " + std::to_string(kMinSamples));
+                    " contact points on DMPL_SENSORS; need at least " + std::to_string(kMinSamples));
   }
   if (object_samples > 0) object_mean /= object_samples;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();

@@ -6,8 +6,7 @@
 
 #include "components/runtime/channels.h"
 #include "dmpl/controller_status_t.hpp"
-#include "dmpl/object_pose_t.hpp"
-#include "dmpl/tactile_t.hpp"
+#include "dmpl/hand_sensors_t.hpp"
 
 namespace dmpl::calib {
 namespace {
@@ -35,19 +34,24 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
          e = lcm_eventlog_read_next_event(log)) {
       ++data.messages;
       const std::string channel(e->channel, e->channellen);
-      if (channel == channels::kTactile || channel == channels::kTactileTrue) {
-        tactile_t m;
+      if (channel == channels::kSensors || channel == channels::kSensorsTrue) {
+        hand_sensors_t m;
         if (m.decode(e->data, 0, e->datalen) >= 0) {
           Tick& tick = data.ticks[offset + m.seq];
           tick.t = m.utime * 1e-6;
           if (data.fingers.empty()) {
-            for (const auto& f : m.fingers) data.fingers.push_back(f.finger);
+            for (const auto& f : m.tactile.fingers) data.fingers.push_back(f.finger);
           }
-          if (channel == channels::kTactile) {
-            tick.sensed = Tips(m);
+          if (channel == channels::kSensors) {
+            tick.sensed = Tips(m.tactile);
             tick.has_sensed = true;
+            if (m.object.valid) {
+              const double* p = m.object.position;
+              tick.object_position = Eigen::Vector3d(p[0], p[1], p[2]);
+              tick.has_object = true;
+            }
           } else {
-            tick.truth = Tips(m);
+            tick.truth = Tips(m.tactile);
             tick.has_truth = true;
           }
           max_seq = std::max<int64_t>(max_seq, m.seq);
@@ -72,13 +76,6 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
             tick.control.push_back(c);
           }
           tick.has_control = true;
-        }
-      } else if (channel == channels::kObjectPose) {
-        object_pose_t m;
-        if (m.decode(e->data, 0, e->datalen) >= 0 && m.valid) {
-          Tick& tick = data.ticks[offset + m.seq];
-          tick.object_position = Eigen::Vector3d(m.position[0], m.position[1], m.position[2]);
-          tick.has_object = true;
         }
       }
       lcm_eventlog_free_event(e);

@@ -142,6 +142,33 @@ TEST(NoiseInjectorTest, ArrivalOrderDoesNotChangeTheReadings) {
   EXPECT_EQ(tact_a->fingers[0].force_n, tact_b->fingers[0].force_n);
 }
 
+TEST(NoiseInjectorTest, AWholeTickIsItsPartsSensedAlone) {
+  NoiseParams p;
+  p.force_sigma = 0.1;
+  p.joint_position_sigma = 0.01;
+  NoiseInjector whole(p, 4), parts(p, 4);
+  hand_sensors_t truth{};
+  truth.seq = 3;
+  truth.utime = 3000;
+  truth.joints = TrueJoints(3);
+  truth.object = TruePose(3);
+  truth.tactile = TrueTactile(3, 1.0);
+  const auto sensed = whole.Sense(truth);
+  ASSERT_TRUE(sensed.has_value());
+  EXPECT_EQ(sensed->seq, 3);
+  EXPECT_EQ(sensed->joints.position, parts.Sense(TrueJoints(3))->position);
+  EXPECT_EQ(sensed->object.position[0], parts.Sense(TruePose(3))->position[0]);
+  EXPECT_EQ(sensed->tactile.fingers[0].force_n,
+            parts.Sense(TrueTactile(3, 1.0))->fingers[0].force_n);
+  // Parts of another tick, or a malformed part: rejected, nothing forwarded.
+  truth.object.seq = 2;
+  EXPECT_FALSE(whole.Sense(truth).has_value());
+  truth.object.seq = 3;
+  truth.tactile.fingers[0].force_n = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(whole.Sense(truth).has_value());
+  EXPECT_EQ(whole.rejected(), 2);
+}
+
 TEST(NoiseInjectorTest, NanInputIsRejectedAndNeverForwarded) {
   NoiseInjector noise(NoiseParams{}, 1);
   const double nan = std::numeric_limits<double>::quiet_NaN();

@@ -28,9 +28,7 @@ from .launch import resolve_cpus
 from .run import run_experiment
 
 SCENARIO = ROOT / "configs/experiments/fig8_sphere.yaml"
-HOP_CHANNELS = ["DMPL_HAND_STATE_TRUE", "DMPL_TACTILE_TRUE", "DMPL_OBJECT_POSE_TRUE",
-                "DMPL_HAND_STATE", "DMPL_TACTILE", "DMPL_OBJECT_POSE", "DMPL_FINGER_TARGETS",
-                "DMPL_JOINT_CMD"]
+HOP_CHANNELS = ["DMPL_SENSORS_TRUE", "DMPL_SENSORS", "DMPL_FINGER_TARGETS", "DMPL_JOINT_CMD"]
 HOPS_PER_TICK = 4
 
 

@@ -10,7 +10,7 @@ def _load():
     text = (ROOT / "components/runtime/channels.h").read_text()
     table = {}
     for name, channel in _PATTERN.findall(text):
-        # kHandStateTrue -> HAND_STATE_TRUE
+        # kSensorsTrue -> SENSORS_TRUE
         key = re.sub(r"(?<!^)(?=[A-Z])", "_", name[1:]).upper()
         table[key] = channel
     if not table:

@@ -31,11 +31,11 @@ class LogData:
     """The decoded content of a run's log."""
 
     def __init__(self, path):
-        from dmpl import (controller_status_t, object_pose_t, sim_control_t, sim_status_t,
-                          supervisor_status_t, tactile_t, task_cmd_t)
+        from dmpl import (controller_status_t, hand_sensors_t, sim_control_t, sim_status_t,
+                          supervisor_status_t, task_cmd_t)
         decoders = {
-            channels.OBJECT_POSE_TRUE: object_pose_t, channels.OBJECT_POSE: object_pose_t,
-            channels.TACTILE_TRUE: tactile_t, channels.SIM_CONTROL: sim_control_t,
+            channels.SENSORS_TRUE: hand_sensors_t, channels.SENSORS: hand_sensors_t,
+            channels.SIM_CONTROL: sim_control_t,
             channels.SIM_STATUS: sim_status_t, channels.SUPERVISOR_STATUS: supervisor_status_t,
             channels.CONTROLLER_STATUS: controller_status_t, channels.TASK: task_cmd_t,
         }
@@ -56,11 +56,11 @@ class LogData:
         log.close()
         self.raw = raw
         self.fingers = []
-        truth = raw[channels.OBJECT_POSE_TRUE]
+        truth = [m.object for m in raw[channels.SENSORS_TRUE]]
         self.seq_to_t = {m.seq: m.utime * 1e-6 for m in truth}
         self.object = self._poses(truth)
-        self.object_sensed = self._poses(raw[channels.OBJECT_POSE])
-        tact = raw[channels.TACTILE_TRUE]
+        self.object_sensed = self._poses([m.object for m in raw[channels.SENSORS]])
+        tact = [m.tactile for m in raw[channels.SENSORS_TRUE]]
         if tact:
             self.fingers = [f.finger for f in tact[0].fingers]
         self.tactile = Series(

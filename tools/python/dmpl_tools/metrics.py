@@ -34,7 +34,7 @@ def compute(data, config):
     obj = data.object
     summary = {}
     if len(obj) == 0:
-        return {"error": "the log has no object truth (DMPL_OBJECT_POSE_TRUE)"}
+        return {"error": "the log has no object truth (DMPL_SENSORS_TRUE)"}
     t = obj.t
     seqs = sorted(data.seq_to_t)
     summary["log_missing_ticks"] = int(seqs[-1] - seqs[0] + 1 - len(seqs))

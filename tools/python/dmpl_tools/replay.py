@@ -11,7 +11,7 @@
 Every dmpl message begins with utime and seq, so the tick of any message is read from its bytes.
 Example, the controller alone on the sensed channels and tasks of a run:
   dmpl_controller --config RUN/config.yaml &
-  tools/dmpl replay RUN/run.lcmlog --channels 'DMPL_(HAND_STATE|TACTILE|OBJECT_POSE|TASK)$' \\
+  tools/dmpl replay RUN/run.lcmlog --channels 'DMPL_(SENSORS|TASK)$' \\
       --answer DMPL_FINGER_TARGETS --compare
 """
 import argparse
