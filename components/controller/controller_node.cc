@@ -140,6 +140,8 @@ class ControllerNode : public Node {
     const int64_t utime = static_cast<int64_t>(sensed_.time_s * 1e6 + 0.5);
     targets_.utime = utime;
     targets_.seq = tick;
+    targets_.joint_position = sensed_.q;
+    targets_.num_joints = static_cast<int16_t>(sensed_.q.size());
     for (size_t f = 0; f < out.fingers.size(); ++f) {
       finger_target_t& t = targets_.fingers[f];
       t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;

@@ -1,21 +1,18 @@
 // dmpl_ik: Cartesian fingertip targets (DMPL_FINGER_TARGETS) -> joint command (DMPL_JOINT_CMD).
-// Lockstep: answers tick k once both the targets and the sensed joints (DMPL_SENSORS) of tick k
-// arrived.
+// The targets carry the sensed joints they were planned from; the solve starts there. Each
+// targets message is answered once (lockstep: the command for tick k answers the targets of k).
 // Reads sections: run, hand, ik.
 #include <cmath>
 
 #include "components/ik/hand_ik.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
-#include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
 #include "dmpl/finger_targets_t.hpp"
-#include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/ik_status_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
-#include "dmpl/joint_state_t.hpp"
 
 namespace dmpl {
 namespace {
@@ -27,43 +24,34 @@ class IkNode : public Node {
         lockstep_(ctx.run.lockstep),
         model_(std::move(model)),
         kin_(model_),
-        ik_(kin_, params),
-        gate_({{"targets", 0, 0}, {"hand_state", 0, 0}}) {
+        ik_(kin_, params) {
     cmd_.name = model_.actuated_names();
     cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
     status_.num_fingers = static_cast<int8_t>(kin_.num_fingers());
     status_.fingers.resize(kin_.num_fingers());
     for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
     listen(channels::kFingerTargets).subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
-    listen(channels::kSensors).subscribe(channels::kSensors, &IkNode::OnSensors, this);
   }
 
  private:
-  void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* sensors) {
-    const joint_state_t* m = &sensors->joints;
-    if (m->num_joints != kin_.num_joints() || static_cast<int>(m->position.size()) != m->num_joints) {
-      Reject("hand state with " + std::to_string(m->num_joints) + " joints");
+  void OnTargets(const lcm::ReceiveBuffer*, const std::string&, const finger_targets_t* m) {
+    if (m->num_joints != kin_.num_joints() ||
+        static_cast<int>(m->joint_position.size()) != m->num_joints) {
+      Reject("targets planned from " + std::to_string(m->num_joints) + " joints");
       return;
     }
-    for (double q : m->position) {
+    for (double q : m->joint_position) {
       if (!std::isfinite(q)) {
-        Reject("hand state with NaN");
+        Reject("targets planned from joints with NaN");
         return;
       }
     }
-    hand_ = *m;
     if (lockstep_) {
-      if (auto tick = gate_.Arrive(1, m->seq)) Solve(*tick);
+      if (m->seq <= last_seq_) return;  // every tick answered once
+      last_seq_ = m->seq;
     }
-  }
-
-  void OnTargets(const lcm::ReceiveBuffer*, const std::string&, const finger_targets_t* m) {
     targets_ = *m;
-    if (lockstep_) {
-      if (auto tick = gate_.Arrive(0, m->seq)) Solve(*tick);
-    } else if (hand_.num_joints > 0) {
-      Solve(m->seq);
-    }
+    Solve(m->seq);
   }
 
   void Reject(const std::string& why) {
@@ -85,11 +73,11 @@ class IkNode : public Node {
         targets[f] = Eigen::Vector3d(t.position[0], t.position[1], t.position[2]);
       }
     }
-    const std::vector<double>& q = ik_.Step(hand_.position, targets);
-    cmd_.utime = hand_.utime;
+    const std::vector<double>& q = ik_.Step(targets_.joint_position, targets);
+    cmd_.utime = targets_.utime;
     cmd_.seq = tick;
     cmd_.position = q;
-    status_.utime = hand_.utime;
+    status_.utime = targets_.utime;
     status_.seq = tick;
     status_.solve_us = (MonotonicSeconds() - t0) * 1e6;
     for (int f = 0; f < kin_.num_fingers(); ++f) {
@@ -99,8 +87,8 @@ class IkNode : public Node {
       status_.fingers[f].iterations = static_cast<int16_t>(r.iterations);
       if (r.status == IkStatus::kRejected) Reject("NaN target for finger " + kin_.finger(f).name());
     }
-    // The status at 100 Hz and whenever a finger's status changes (every packet costs every
-    // process on the bus a wake-up); first, so that a reader of the command has it.
+    // The status at 100 Hz and whenever a finger's status changes, on the monitor bus (for
+    // people and tools; no process of the loop wakes for it).
     bool changed = false;
     for (int f = 0; f < kin_.num_fingers(); ++f) {
       changed = changed || status_.fingers[f].status != last_status_[f];
@@ -115,9 +103,8 @@ class IkNode : public Node {
   HandModel model_;
   HandKinematics kin_;
   HandIk ik_;
-  LockstepGate gate_;
-  joint_state_t hand_{};
   finger_targets_t targets_{};
+  int64_t last_seq_ = -1;
   joint_cmd_t cmd_{};
   ik_status_t status_{};
   std::vector<int8_t> last_status_ = std::vector<int8_t>(8, -1);

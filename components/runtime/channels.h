@@ -28,9 +28,11 @@ inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
 // wakes only for the channels it may want. Keep the form `{kName, bus},` one per line (tools/python
 // reads it). Channels whose relative order matters share a bus (JOINT_CMD and SIM_CONTROL: a
 // control sent in answer to tick s must reach the simulator before the command for tick s + 1).
-inline constexpr int kNumBuses = 7;
+// The monitor bus carries what only people and tools read (lcm-spy, the recorder, the demo's
+// progress), so that no process of the loop wakes for it.
+inline constexpr int kNumBuses = 8;
 inline constexpr const char* kBusNames[kNumBuses] = {
-    "management", "truth", "sensed", "targets", "joints", "task", "status"};
+    "management", "truth", "sensed", "targets", "joints", "task", "status", "monitor"};
 struct ChannelBus {
   const char* channel;
   int bus;
@@ -43,11 +45,11 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kSensors, 2},
     {kFingerTargets, 3},
     {kJointCmd, 4},
-    {kIkStatus, 4},
+    {kIkStatus, 7},
     {kSimControl, 4},
     {kTask, 5},
     {kControllerStatus, 6},
-    {kSupervisorStatus, 6},
+    {kSupervisorStatus, 7},
 };
 
 }  // namespace dmpl::channels
