@@ -245,6 +245,7 @@ class Launcher:
             pset.processes, key=lambda s: s.start_order)]  # sorted() is stable: file order on ties
         self.by_name = {p.spec.name: p for p in self.procs}
         self.selector = selectors.DefaultSelector()
+        self.all_cpus = sorted(os.sched_getaffinity(0))
         self.stop_requested = None
         self.failed = []
         self.logger = None
@@ -329,7 +330,7 @@ class Launcher:
             proc.popen = subprocess.Popen(
                 cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                 env=self._env(spec), cwd=str(ROOT), start_new_session=True,
-                preexec_fn=lambda: _child_setup(spec.cpus))
+                preexec_fn=lambda: _child_setup(spec.cpus or self.all_cpus))
         except OSError as e:
             self.say(f"{spec.name}: cannot start: {e}")
             proc.state = "failed"
@@ -358,13 +359,20 @@ class Launcher:
         proc.stop_deadline = time.monotonic() + proc.spec.stop_time_allowed
         self._signal_group(proc, getattr(signal, proc.spec.stop_signal))
 
+    def _other_cpus(self):
+        """The CPUs no process of the set is pinned to (empty when none is pinned or none is
+        left over)."""
+        loop_cpus = {c for p in self.pset.processes for c in p.cpus}
+        if not loop_cpus:
+            return []
+        return sorted(set(self.all_cpus) - loop_cpus)
+
     def _start_logger(self):
         if not self.record:
             return
         log_path = self.run_dir / "run.lcmlog"
         # Off the loop's CPUs when the set is pinned: it reads every message of every tick.
-        loop_cpus = {c for p in self.pset.processes for c in p.cpus}
-        others = sorted(set(os.sched_getaffinity(0)) - loop_cpus) if loop_cpus else []
+        others = self._other_cpus()
         spec = ProcessSpec(name="recorder", exec=executable("dmpl_record"),
                            args=["--lcm-url", self.url, "--channels", self.pset.record_channels,
                                  *(["--single-bus"] if self.single_bus else []), str(log_path)],
@@ -454,9 +462,14 @@ class Launcher:
             previous = {s: signal.signal(s, lambda n, f: self.request_stop(signal.Signals(n).name))
                         for s in (signal.SIGINT, signal.SIGTERM)}
         ACTIVE.add(self)
+        # This thread (the launcher) stays off a pinned loop's CPUs while it runs.
+        before = os.sched_getaffinity(0)
+        if self._other_cpus():
+            os.sched_setaffinity(0, self._other_cpus())
         try:
             return self._run(duration)
         finally:
+            os.sched_setaffinity(0, before)
             ACTIVE.discard(self)
             for s, h in previous.items():
                 signal.signal(s, h)
@@ -533,7 +546,7 @@ class Launcher:
 
 def _child_setup(cpus):
     """Child side: die when the launcher dies, even by SIGKILL (Linux prctl PR_SET_PDEATHSIG);
-    run on `cpus` (checked by resolve_cpus) when given."""
+    run on `cpus` (checked by resolve_cpus; not the launcher's own, which may be narrower)."""
     try:
         import ctypes
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
