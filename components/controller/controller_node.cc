@@ -82,17 +82,22 @@ class ControllerNode : public Node {
   }
 
   void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* m) {
-    sensed_.q = m->joints.position;
-    sensed_.seq = m->seq;
-    sensed_.time_s = m->utime * 1e-6;
+    // Kept by seq: with an actuation delay the simulator runs ahead, and the sensed data of
+    // tick k + 1 can arrive while tick k still waits for its task.
+    SensedInput& in = sensed_by_seq_[m->seq];
+    in.q = m->joints.position;
+    in.seq = m->seq;
+    in.time_s = m->utime * 1e-6;
+    in.tips = sensed_.tips;  // fingers the message does not name keep their last reading
     for (const auto& t : m->tactile.fingers) {
       const int f = kin_.FindFinger(t.finger);
       if (f < 0) continue;
-      sensed_.tips[f] = {t.in_contact != 0, Eigen::Vector3d(t.position[0], t.position[1], t.position[2]),
-                         t.force_n};
+      in.tips[f] = {t.in_contact != 0, Eigen::Vector3d(t.position[0], t.position[1], t.position[2]),
+                    t.force_n};
     }
-    sensed_.object_valid = m->object.valid;
-    sensed_.object = PoseFrom(m->object.position, m->object.orientation);
+    in.object_valid = m->object.valid;
+    in.object = PoseFrom(m->object.position, m->object.orientation);
+    while (sensed_by_seq_.size() > 256) sensed_by_seq_.erase(sensed_by_seq_.begin());
     Arrived(kSensorsIn, m->seq);
   }
 
@@ -130,7 +135,15 @@ class ControllerNode : public Node {
   }
 
   void Tick(int64_t tick) {
-    sensed_.seq = tick;
+    const auto in = sensed_by_seq_.find(tick);
+    if (in == sensed_by_seq_.end()) {
+      // Only a foreign publisher far ahead on DMPL_SENSORS can push it out; the simulator then
+      // reports the missing command.
+      log().error("tick {}: its sensed data is gone (messages far ahead of it came first)", tick);
+      return;
+    }
+    sensed_ = std::move(in->second);
+    sensed_by_seq_.erase(sensed_by_seq_.begin(), std::next(in));
     // The task that answers tick - 1 (in real time: the newest there is).
     const int64_t wanted =
         lockstep_ && wait_for_task_ ? tick - 1 : std::numeric_limits<int64_t>::max();
@@ -198,7 +211,8 @@ class ControllerNode : public Node {
   HandKinematics kin_;
   ManipulationController core_;
   LockstepGate gate_;
-  SensedInput sensed_;
+  SensedInput sensed_;                             // the tick being computed
+  std::map<int64_t, SensedInput> sensed_by_seq_;   // arrived, not yet computed
   TaskInput task_;
   std::map<int64_t, TaskInput> tasks_;  // by seq
   int32_t last_task_id_ = -1;

@@ -125,6 +125,9 @@ void SimParams::Validate(const std::string& source) const {
     if (!(k > 0) || k > 10) fail("servo.finger_scale." + f, "must be in (0, 10]");
   }
   if (steps_per_tick < 1) fail("steps_per_tick", "must be >= 1");
+  if (command_delay_ticks < 0 || command_delay_ticks > 100) {
+    fail("command_delay_ticks", "must be in [0, 100]");
+  }
   if (!(duration_s > 0)) fail("duration_s", "must be > 0");
   if (!(realtime_rate > 0)) fail("realtime_rate", "must be > 0");
   if (tactile.contact_threshold_n < 0) fail("tactile.contact_threshold_n", "must be >= 0");

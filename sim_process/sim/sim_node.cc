@@ -1,14 +1,18 @@
 // dmpl_sim: the Bullet hand simulator on LCM. Reads sections: run, hand, sim, object.
 //
 // Lockstep (run.lockstep): once every process in run.lockstep_participants has sent a heartbeat,
-// publish the truth of tick 0; then for each tick k wait for JOINT_CMD with seq k, step, publish
-// tick k+1. A missing command is a fault reported with its seq, never a silent hold; after
+// publish the truth of tick 0; then for each tick k wait for the JOINT_CMD with seq k - d (d =
+// sim.command_delay_ticks; before tick d the initial targets hold), step, publish tick k+1. A
+// missing command is a fault reported with its seq, never a silent hold; after
 // run.max_tick_faults faults the simulator gives up (exit 4).
-// Real time: step on the wall clock (sim.realtime_rate), use the latest command, count late ones.
+// Real time: step on the wall clock (sim.realtime_rate), use the latest command that is due
+// (seq <= k - d), count late ones.
 #include <algorithm>
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <iterator>
+#include <map>
 
 #include "components/hand/hand_model.h"
 #include "components/runtime/channels.h"
@@ -161,21 +165,45 @@ class SimNode : public Node {
     log().info("starting at tick 0 ({})", run_.lockstep ? "lockstep" : "real time");
     wall_start_ = MonotonicSeconds();
     PublishState();
+    if (run_.lockstep) StepWhileReady();
+  }
+
+  // The joint command the step from the current tick applies (< 0: none, initial targets).
+  int64_t DueSeq() const { return tick_ - sim_params_.command_delay_ticks; }
+
+  // Lockstep: steps for as long as the command each step needs has arrived (with a delay the
+  // commands of the next ticks may already be in).
+  void StepWhileReady() {
+    while (started_ && !paused_ && !exit_requested()) {
+      const int64_t due = DueSeq();
+      if (due >= 0) {
+        const auto it = commands_.find(due);
+        if (it == commands_.end()) return;
+        ApplyCommand(it->second);
+        commands_.erase(commands_.begin(), std::next(it));
+      }
+      Advance();
+    }
+  }
+
+  // Real time: applies, in order, every command that is due.
+  void ApplyDueCommands() {
+    while (!commands_.empty() && commands_.begin()->first <= DueSeq()) {
+      ApplyCommand(commands_.begin()->second);
+      commands_.erase(commands_.begin());
+    }
   }
 
   void OnJointCmd(const lcm::ReceiveBuffer*, const std::string&, const joint_cmd_t* cmd) {
     if (!started_) return;
     if (run_.lockstep) {
-      if (cmd->seq != tick_ || awaiting_resume_) {
-        if (cmd->seq < tick_) ++stale_;
+      // Only the due command and those of ticks already published can be useful.
+      if (cmd->seq < DueSeq() || cmd->seq > tick_ || commands_.count(cmd->seq) != 0) {
+        ++stale_;
         return;
       }
-      ApplyCommand(*cmd);
-      if (paused_) {
-        awaiting_resume_ = true;
-        return;
-      }
-      Advance();
+      commands_.emplace(cmd->seq, *cmd);
+      StepWhileReady();
     } else {
       if (cmd->seq < tick_ - 1) ++late_;
       // Sensor-to-command latency: from publishing tick k to receiving the command for it.
@@ -185,7 +213,14 @@ class SimNode : public Node {
                                 1e6);
         last_answered_ = cmd->seq;
       }
-      ApplyCommand(*cmd);
+      if (cmd->seq > tick_ || commands_.size() > kLatencyWindow) {
+        ++rejected_;
+        last_fault_ = "command for seq " + std::to_string(cmd->seq) + " ahead of tick " +
+                      std::to_string(tick_);
+        return;
+      }
+      commands_[cmd->seq] = *cmd;
+      ApplyDueCommands();
     }
   }
 
@@ -218,7 +253,7 @@ class SimNode : public Node {
   }
 
   void ApplyControls() {
-    while (!controls_.empty() && controls_.front().seq < tick_) {
+    while (!controls_.empty() && controls_.front().seq < DueSeq()) {
       Apply(controls_.front());
       controls_.pop_front();
     }
@@ -255,26 +290,25 @@ class SimNode : public Node {
 
   void OnSimControl(const lcm::ReceiveBuffer*, const std::string&, const sim_control_t* c) {
     // Lockstep: a control carrying seq s (sent in answer to tick s) takes effect before the step
-    // from tick s + 1: whoever sent it answered tick s before anyone could answer tick s + 1, so
-    // it lands at the same tick in every run, one process or many. Without a seq (< 0) it
-    // applies at the next step.
+    // that applies the command of tick s + 1 (the step from s + 1 + delay): whoever sent it
+    // answered tick s before anyone could answer tick s + 1, and it shares JOINT_CMD's bus, so
+    // it is in first and lands at the same tick in every run, one process or many. Without a
+    // seq (< 0) it applies at the next step.
     sim_control_t control = *c;
-    if (control.seq < 0) control.seq = tick_ - 1;
-    if (run_.lockstep && control.seq < tick_ - 1) {
+    if (control.seq < 0) control.seq = DueSeq() - 1;
+    if (run_.lockstep && control.seq < DueSeq() - 1) {
       log().warn("late sim control for seq {} applied at tick {}", control.seq, tick_);
     }
     if (control.command == sim_control_t::RESUME || control.command == sim_control_t::PAUSE) {
       Apply(control);  // these act on the loop itself, now
-      if (control.command == sim_control_t::RESUME && awaiting_resume_) {
-        awaiting_resume_ = false;  // the command of this tick was applied when it came
-        Advance();
-      }
+      if (control.command == sim_control_t::RESUME && run_.lockstep) StepWhileReady();
       return;
     }
     controls_.push_back(control);
   }
 
   void Advance() {
+    if (!run_.lockstep) ApplyDueCommands();
     ApplyControls();
     if (exit_requested()) return;  // a STOP
     const double t0 = MonotonicSeconds();
@@ -333,7 +367,7 @@ class SimNode : public Node {
     if (paused_ || exit_requested()) return;
     if (MonotonicSeconds() - published_at_ < run_.tick_timeout_s) return;
     ++faults_;
-    last_fault_ = "lockstep fault: no JOINT_CMD for seq " + std::to_string(tick_) + " within " +
+    last_fault_ = "lockstep fault: no JOINT_CMD for seq " + std::to_string(DueSeq()) + " within " +
                   std::to_string(run_.tick_timeout_s) + " s";
     log().error("{} (fault {}/{})", last_fault_, faults_, run_.max_tick_faults);
     PublishStatus();
@@ -367,9 +401,9 @@ class SimNode : public Node {
   hand_sensors_t sensors_msg_{};
   std::vector<std::string> waiting_for_;
   std::deque<sim_control_t> controls_;
+  std::map<int64_t, joint_cmd_t> commands_;  // by seq, not yet applied
   bool started_ = false;
   bool paused_ = false;
-  bool awaiting_resume_ = false;
   int64_t tick_ = 0;
   int faults_ = 0;
   int rejected_ = 0;

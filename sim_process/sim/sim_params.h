@@ -77,6 +77,12 @@ struct SimParams {
   std::array<double, 3> palm_rpy = {0.0, -1.5707963267948966, 0.0};  // palm up: palm x -> world z
   std::map<std::string, std::vector<double>> initial_joints;  // finger -> joint angles (rad)
   int steps_per_tick = 1;
+  // The actuation delay: the step from tick k applies the joint command that answered tick
+  // k - command_delay_ticks (a sim control sent in answer to tick s acts before the step from
+  // s + 1 + delay). 1, as a real hand's servos act on a command one cycle after the sensing it
+  // answers; it also lets the simulator step while the nodes compute the next command, so a
+  // lockstep loop on two CPUs runs in parallel. 0: the command of tick k drives the step from k.
+  int command_delay_ticks = 1;
   double duration_s = 10.0;        // the run ends after this much simulated time
   double realtime_rate = 1.0;      // real-time mode: sim seconds per wall second
   std::string stats_file;          // at the end: JSON with ticks, real-time factor, latencies
@@ -90,6 +96,7 @@ struct SimParams {
     a->Visit(DMPL_NVP(palm_rpy));
     a->Visit(DMPL_NVP(initial_joints));
     a->Visit(DMPL_NVP(steps_per_tick));
+    a->Visit(DMPL_NVP(command_delay_ticks));
     a->Visit(DMPL_NVP(duration_s));
     a->Visit(DMPL_NVP(realtime_rate));
     a->Visit(DMPL_NVP(stats_file));

@@ -1,7 +1,9 @@
 """dmpl_sim's lockstep protocol, driven by this test as the only participant: commands with the
 right seq advance the simulation; NaN and out-of-limit commands are rejected, counted and never
-reach the physics; a missing command is a fault reported with its seq, and too many end the run.
-Bad URDF and config files stop the process before it runs, naming the file and the problem."""
+reach the physics; a missing command is a fault reported with its seq, and too many end the run;
+with an actuation delay of d ticks the simulator runs d ticks ahead and a command acts exactly d
+ticks later. Bad URDF and config files stop the process before it runs, naming the file and the
+problem."""
 import math
 import os
 import subprocess
@@ -15,7 +17,7 @@ from dmpl import hand_sensors_t, heartbeat_t, joint_cmd_t, sim_status_t
 
 CONFIG = """
 run: {lockstep: true, lockstep_participants: [test_driver], tick_timeout_s: 0.3, max_tick_faults: 2}
-sim: {duration_s: 5.0}
+sim: {duration_s: 5.0, command_delay_ticks: DELAY}
 object: {position: [0.3, 0.5, 0.5], held: false}
 """
 
@@ -28,64 +30,97 @@ def write(text, suffix=".yaml"):
 
 
 class SimNodeTest(unittest.TestCase):
-    def test_lockstep_commands_rejections_and_faults(self):
+    def start(self, delay):
+        """Starts dmpl_sim with this test as its only participant; returns (process, bus,
+        states, answer), answer(k, q) sending the command for tick k and waiting for the tick
+        it makes the simulator publish."""
         bus = mp.Bus()
         # The joints of every tick's truth.
         bus.subscribe("DMPL_SENSORS_TRUE", lambda ch, data: bus.received.setdefault(ch, []).append(
             hand_sensors_t.decode(data).joints))
         bus.listen("DMPL_SIM_STATUS", sim_status_t)
         sim = subprocess.Popen([os.path.join(os.environ["DMPL_BUILD_DIR"], "bin", "dmpl_sim"),
-                                "--config", write(CONFIG)], cwd=mp.ROOT)
-        try:
-            hb = heartbeat_t()
-            hb.process, hb.pid, hb.state = "test_driver", os.getpid(), heartbeat_t.RUNNING
-            bus.wait_for(lambda: (bus.publish("DMPL_HEARTBEAT", hb) or True) and
-                         bus.received.get("DMPL_SENSORS_TRUE"), 10, "tick 0")
-            states = bus.received["DMPL_SENSORS_TRUE"]
-            names = list(states[0].name)
-            q0 = list(states[0].position)
+                                "--config", write(CONFIG.replace("DELAY", str(delay)))],
+                               cwd=mp.ROOT)
+        self.addCleanup(lambda: sim.poll() is None and sim.kill())
+        hb = heartbeat_t()
+        hb.process, hb.pid, hb.state = "test_driver", os.getpid(), heartbeat_t.RUNNING
+        bus.wait_for(lambda: (bus.publish("DMPL_HEARTBEAT", hb) or True) and
+                     len(bus.received.get("DMPL_SENSORS_TRUE", [])) > delay, 10,
+                     f"ticks 0..{delay}")
+        states = bus.received["DMPL_SENSORS_TRUE"]
+        names = list(states[0].name)
 
-            def answer(k, q):
-                cmd = joint_cmd_t()
-                cmd.seq, cmd.num_joints, cmd.name, cmd.position = k, len(names), names, q
-                bus.publish("DMPL_JOINT_CMD", cmd)
-                bus.wait_for(lambda: len(states) > k + 1, 5, f"tick {k + 1}")
-                self.assertEqual(states[k + 1].seq, k + 1)
+        def answer(k, q):
+            cmd = joint_cmd_t()
+            cmd.seq, cmd.num_joints, cmd.name, cmd.position = k, len(names), names, q
+            bus.publish("DMPL_JOINT_CMD", cmd)
+            bus.wait_for(lambda: len(states) > k + delay + 1, 5, f"tick {k + delay + 1}")
+            self.assertEqual(states[k + delay + 1].seq, k + delay + 1)
 
-            # A stale command (wrong seq) does not step.
-            stale = joint_cmd_t()
-            stale.seq, stale.num_joints, stale.name, stale.position = 7, len(names), names, q0
-            bus.publish("DMPL_JOINT_CMD", stale)
-            bus.spin(0.1)
-            self.assertEqual(len(states), 1)
-            for k in range(5):
-                answer(k, q0)
-            bent = list(q0)
-            bent[names.index("M_j1")] = 1.0
-            bad_nan = list(bent)
-            bad_nan[names.index("F_j2")] = math.nan
-            answer(5, bad_nan)                   # rejected: the previous targets stay
-            bad_limit = list(bent)
-            bad_limit[names.index("M_j1")] = 9.0
-            answer(6, bad_limit)                 # rejected
-            for k in range(7, 60):
-                answer(k, q0)
-            m1 = names.index("M_j1")
-            self.assertTrue(all(abs(s.position[m1] - q0[m1]) < 0.01 for s in states),
-                            "a rejected command reached the physics")
-            bus.wait_for(lambda: any(s.rejected_commands == 2 for s in
-                                     bus.received.get("DMPL_SIM_STATUS", [])), 5,
-                         "2 rejected commands reported")
-            # Stop answering: faults with the seq, then the simulator gives up (exit 4).
-            code = sim.wait(timeout=10)
-            self.assertEqual(code, 4)
-            bus.spin(0.1)
-            faults = [s for s in bus.received["DMPL_SIM_STATUS"] if s.faults > 0]
-            self.assertTrue(faults)
-            self.assertIn("no JOINT_CMD for seq 60", faults[-1].last_fault)
-        finally:
-            if sim.poll() is None:
-                sim.kill()
+        return sim, bus, states, answer
+
+    def test_a_command_acts_exactly_the_delay_later(self):
+        delay = 2
+        sim, bus, states, answer = self.start(delay)
+        bus.spin(0.2)
+        self.assertEqual(len(states), delay + 1, "stepped past the delay without a command")
+        names = list(states[0].name)
+        q0 = list(states[0].position)
+        m1 = names.index("M_j1")
+        bent = list(q0)
+        bent[m1] = q0[m1] + 0.3
+        for k in range(10):
+            answer(k, q0)
+        for k in range(10, 20):
+            answer(k, bent)
+        # The command of tick 10 drives the step from tick 12: tick 13 is the first that moves.
+        at_rest = max(abs(s.velocity[m1]) for s in states[:13])
+        self.assertLess(at_rest, 0.02)
+        self.assertGreater(states[13].velocity[m1], 10 * max(at_rest, 0.01))
+        # Stop answering: the fault names the command the next step needs.
+        self.assertEqual(sim.wait(timeout=10), 4)
+        bus.spin(0.1)
+        faults = [s for s in bus.received["DMPL_SIM_STATUS"] if s.faults > 0]
+        self.assertTrue(faults)
+        self.assertIn("no JOINT_CMD for seq 20", faults[-1].last_fault)
+
+    def test_lockstep_commands_rejections_and_faults(self):
+        sim, bus, states, answer = self.start(0)
+        names = list(states[0].name)
+        q0 = list(states[0].position)
+
+        # A stale command (wrong seq) does not step.
+        stale = joint_cmd_t()
+        stale.seq, stale.num_joints, stale.name, stale.position = 7, len(names), names, q0
+        bus.publish("DMPL_JOINT_CMD", stale)
+        bus.spin(0.1)
+        self.assertEqual(len(states), 1)
+        for k in range(5):
+            answer(k, q0)
+        bent = list(q0)
+        bent[names.index("M_j1")] = 1.0
+        bad_nan = list(bent)
+        bad_nan[names.index("F_j2")] = math.nan
+        answer(5, bad_nan)                   # rejected: the previous targets stay
+        bad_limit = list(bent)
+        bad_limit[names.index("M_j1")] = 9.0
+        answer(6, bad_limit)                 # rejected
+        for k in range(7, 60):
+            answer(k, q0)
+        m1 = names.index("M_j1")
+        self.assertTrue(all(abs(s.position[m1] - q0[m1]) < 0.01 for s in states),
+                        "a rejected command reached the physics")
+        bus.wait_for(lambda: any(s.rejected_commands == 2 for s in
+                                 bus.received.get("DMPL_SIM_STATUS", [])), 5,
+                     "2 rejected commands reported")
+        # Stop answering: faults with the seq, then the simulator gives up (exit 4).
+        code = sim.wait(timeout=10)
+        self.assertEqual(code, 4)
+        bus.spin(0.1)
+        faults = [s for s in bus.received["DMPL_SIM_STATUS"] if s.faults > 0]
+        self.assertTrue(faults)
+        self.assertIn("no JOINT_CMD for seq 60", faults[-1].last_fault)
 
     def check_error(self, config_text, expected, urdf=None):
         if urdf is not None:
@@ -103,6 +138,8 @@ class SimNodeTest(unittest.TestCase):
         self.check_error("object: {mass: 0}\n", "key 'object.mass': must be > 0")
         self.check_error("object: {shape: torus}\n", "unknown shape 'torus'")
         self.check_error("sim: {servo: {kp: [1, 2]}}\n", "kp and kd")
+        self.check_error("sim: {command_delay_ticks: -1}\n",
+                         "key 'sim.command_delay_ticks': must be in [0, 100]")
         self.check_error("hand: {urdf: /nonexistent.urdf}\n", "does not exist")
         link = ('<link name="{0}"><inertial><mass value="{1}"/><inertia ixx="1e-5" iyy="1e-5" '
                 'izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>')

@@ -1,15 +1,22 @@
 """tools/dmpl bench loop: the closed loop at 1 kHz in lockstep, multi-process against one-process,
 measured side by side in one run, and the raw LCM hop measured by the benchmark itself.
 
+The loop as it runs by default: a one-tick actuation delay (sim.command_delay_ticks = 1) and,
+on two CPUs, the simulator on the first and the nodes on the last (run.loop_layout()), so that
+physics steps while the nodes compute the next command. Beside it, the loop without the delay
+(every process on the last CPU: without a delay nothing can run in parallel, and a local
+wakeup is the cheapest) and the loop with the scheduler free.
+
 Keys: rtf_multiprocess, rtf_oneprocess (steady state, from the simulator's own clock, recording
-off, the loop pinned to the last CPU as `tools/dmpl run --cpus -1` does; the median of three
-alternating rounds), rtf_multiprocess_unpinned (the same, the scheduler free to move processes),
-tick_us_multiprocess, tick_us_oneprocess, tick_overhead_us (what multi-process adds per
-tick), lcm_hop_us (half a ping-pong round trip of a message of the loop's mean size between two
-processes on the loop's CPU; lcm_hop_us_unpinned with the scheduler free), hops_per_tick
-(sim -> noise -> controller -> IK -> sim), overhead_vs_raw =
-tick_overhead_us / (hops_per_tick * lcm_hop_us); in real time, latency_p50_us and latency_p99_us
-from a sensor tick to the command that answers it; and the CPU time per tick of each process.
+off; the median of three alternating rounds), rtf_multiprocess_no_delay,
+rtf_multiprocess_unpinned, tick_us_multiprocess, tick_us_oneprocess, tick_overhead_us (what
+multi-process adds per tick; with the delay part of it runs in parallel), lcm_hop_us (half a
+ping-pong round trip of a message of the loop's mean size between two processes on one CPU;
+lcm_hop_us_unpinned with the scheduler free), hops_per_tick (sim -> noise -> controller -> IK
+-> sim), overhead_vs_raw = tick_overhead_us / (hops_per_tick * lcm_hop_us) and the same without
+the delay (overhead_vs_raw_no_delay: what the framework adds over bare LCM when nothing
+overlaps); in real time, latency_p50_us and latency_p99_us from a sensor tick to the command
+that answers it; and the CPU time per tick of each process.
 """
 import json
 import os
@@ -25,20 +32,20 @@ import lcm
 
 from .paths import ROOT, executable
 from .launch import resolve_cpus
-from .run import run_experiment
+from .run import loop_layout, run_experiment
 
 SCENARIO = ROOT / "configs/experiments/fig8_sphere.yaml"
 HOP_CHANNELS = ["DMPL_SENSORS_TRUE", "DMPL_SENSORS", "DMPL_FINGER_TARGETS", "DMPL_JOINT_CMD"]
 HOPS_PER_TICK = 4
 
 
-LOOP_CPUS = [-1]
+ONE_CPU = [-1]
 
 
-def _run(tmp, tag, one_process, sets=(), cpus=LOOP_CPUS):
+def _run(tmp, tag, one_process, sets=(), cpus=ONE_CPU, pins=None):
     stats = Path(tmp) / f"{tag}.json"
     run_experiment(SCENARIO, Path(tmp) / tag, sets=[f"sim.stats_file={stats}", *sets],
-                   echo=False, one_process=one_process, record=False, cpus=cpus)
+                   echo=False, one_process=one_process, record=False, cpus=cpus, pins=pins)
     return json.loads(stats.read_text()), Path(tmp) / tag
 
 
@@ -77,47 +84,62 @@ def _cpu_per_tick(run_dir, ticks):
     return out
 
 
+def _median(runs):
+    """The run of median tick time: (stats, run dir)."""
+    return sorted(runs, key=lambda x: x[0]["tick_us"])[len(runs) // 2]
+
+
 def bench_loop(rounds=3):
-    """Alternates multi- and one-process runs `rounds` times and takes the medians: a virtual
-    machine's timing wanders from one second to the next."""
+    """Alternates the runs `rounds` times and takes the medians: a virtual machine's timing
+    wanders from one second to the next."""
+    delayed, no_delay = ["sim.command_delay_ticks=1"], ["sim.command_delay_ticks=0"]
+    layout_cpus, layout_pins = loop_layout()
     with tempfile.TemporaryDirectory(prefix="dmpl_bench_loop_") as tmp:
         nbytes = _mean_message_bytes(tmp)
-        loop_cpus = resolve_cpus(LOOP_CPUS, "bench loop")
-        hop = _hop_us(nbytes, loop_cpus)
+        hop = _hop_us(nbytes, resolve_cpus(ONE_CPU, "bench loop"))
         hop_free = _hop_us(nbytes)
-        multis, ones, frees = [], [], []
+        runs = {"multi": [], "one": [], "no_delay": [], "free": []}
         for r in range(rounds):
-            multis.append(_run(tmp, f"multi{r}", one_process=False))
-            ones.append(_run(tmp, f"one{r}", one_process=True))
-            frees.append(_run(tmp, f"free{r}", one_process=False, cpus=None))
-            print(f"round {r + 1}/{rounds}: multi-process {multis[-1][0]['tick_us']:.0f} us/tick, "
-                  f"one-process {ones[-1][0]['tick_us']:.0f} us/tick, multi-process unpinned "
-                  f"{frees[-1][0]['tick_us']:.0f} us/tick", file=sys.stderr)
-        multi, multi_dir = sorted(multis, key=lambda x: x[0]["tick_us"])[rounds // 2]
-        one = sorted((o[0] for o in ones), key=lambda x: x["tick_us"])[rounds // 2]
-        free = sorted((f[0] for f in frees), key=lambda x: x["tick_us"])[rounds // 2]
-        # Real time as a real hand runs it: the scheduler free (pinned, the simulator's clock
-        # competes with the nodes for one CPU and commands come late).
-        realtime, _ = _run(tmp, "realtime", one_process=False, sets=["run.lockstep=false"],
-                           cpus=None)
+            runs["multi"].append(_run(tmp, f"multi{r}", False, delayed, layout_cpus, layout_pins))
+            runs["one"].append(_run(tmp, f"one{r}", True, delayed))
+            runs["no_delay"].append(_run(tmp, f"nodelay{r}", False, no_delay))
+            runs["free"].append(_run(tmp, f"free{r}", False, delayed, cpus=None))
+            print(f"round {r + 1}/{rounds}: us/tick multi-process "
+                  f"{runs['multi'][-1][0]['tick_us']:.0f}, one-process "
+                  f"{runs['one'][-1][0]['tick_us']:.0f}, multi-process without the delay "
+                  f"{runs['no_delay'][-1][0]['tick_us']:.0f}, multi-process unpinned "
+                  f"{runs['free'][-1][0]['tick_us']:.0f}", file=sys.stderr)
+        (multi, multi_dir), (one, _) = _median(runs["multi"]), _median(runs["one"])
+        (bare, bare_dir), (free, _) = _median(runs["no_delay"]), _median(runs["free"])
+        # Real time as a real hand runs it: the scheduler free.
+        realtime, _ = _run(tmp, "realtime", False, [*delayed, "run.lockstep=false"], cpus=None)
+        raw = HOPS_PER_TICK * hop["lcm_hop_us"]
         overhead = multi["tick_us"] - one["tick_us"]
+        overhead_bare = bare["tick_us"] - one["tick_us"]
         result = {
             "rtf_multiprocess": multi["realtime_factor"],
             "rtf_oneprocess": one["realtime_factor"],
+            "rtf_multiprocess_no_delay": bare["realtime_factor"],
             "rtf_multiprocess_unpinned": free["realtime_factor"],
-            "loop_cpus": LOOP_CPUS,
+            "command_delay_ticks": 1,
+            "loop_cpus": {"dmpl_sim": layout_pins.get("dmpl_sim", layout_cpus),
+                          "others": layout_cpus, "no_delay": ONE_CPU},
             "tick_us_multiprocess": multi["tick_us"],
             "tick_us_oneprocess": one["tick_us"],
+            "tick_us_multiprocess_no_delay": bare["tick_us"],
             "tick_overhead_us": overhead,
+            "tick_overhead_us_no_delay": overhead_bare,
             "lcm_hop_us": hop["lcm_hop_us"],
             "lcm_hop_us_unpinned": hop_free["lcm_hop_us"],
             "lcm_hop_bytes": nbytes,
             "hops_per_tick": HOPS_PER_TICK,
-            "overhead_vs_raw": overhead / (HOPS_PER_TICK * hop["lcm_hop_us"]),
+            "overhead_vs_raw": overhead / raw,
+            "overhead_vs_raw_no_delay": overhead_bare / raw,
             "latency_p50_us": realtime["latency_p50_us"],
             "latency_p99_us": realtime["latency_p99_us"],
             "realtime_late_commands": realtime["late_commands"],
             "cpu_us_per_tick_multiprocess": _cpu_per_tick(multi_dir, multi["ticks"]),
+            "cpu_us_per_tick_multiprocess_no_delay": _cpu_per_tick(bare_dir, bare["ticks"]),
             "ticks": multi["ticks"],
             "rounds": rounds,
         }

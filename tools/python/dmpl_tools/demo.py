@@ -6,7 +6,6 @@ while it runs; at the end: where the report is, and the headline numbers.
   tools/dmpl demo [--out DIR] [--seed N] [--set key=value]...
 """
 import argparse
-import os
 import sys
 import threading
 import time
@@ -14,7 +13,7 @@ import time
 from .bus import Buses
 from .paths import ROOT
 from .report import make_report
-from .run import cpu_list, print_headline, run_experiment
+from .run import cpu_list, loop_layout, print_headline, run_experiment
 
 
 class Progress:
@@ -63,14 +62,15 @@ def main(argv=None):
     ap.add_argument("--seed", type=int)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--config", default=str(ROOT / "configs/experiments/demo.yaml"))
-    ap.add_argument("--cpus", type=cpu_list, default=[-1] if len(os.sched_getaffinity(0)) > 1
-                    else None, metavar="LIST", help="the CPUs of the loop (default: the last; "
-                    "the recorder runs on the others); '' lets the scheduler place it")
+    ap.add_argument("--cpus", type=cpu_list, metavar="LIST",
+                    help="the CPUs of the loop; '' lets the scheduler place it (default: with "
+                    "two CPUs or more the simulator on the first, the nodes on the last)")
     args = ap.parse_args(argv)
+    cpus, pins = loop_layout() if args.cpus is None else (args.cpus or None, {})
     print(f"[demo] {args.config}: the sphere turned by finger gaiting; out: {args.out}",
           file=sys.stderr)
     summary, out = run_experiment(args.config, args.out, seed=args.seed, sets=args.set,
-                                  echo=False, progress=Progress(), cpus=args.cpus or None)
+                                  echo=False, progress=Progress(), cpus=cpus, pins=pins)
     report = make_report(out / "run.lcmlog", out / "report")
     print_headline(summary, out)
     print(f"\nreport: {report}")

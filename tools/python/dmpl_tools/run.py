@@ -2,6 +2,7 @@
 import argparse
 import json
 import multiprocessing
+import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -13,13 +14,25 @@ from .logdata import LogData
 from .paths import BUILD, ROOT
 
 
+def loop_layout():
+    """The CPUs a lockstep loop runs fastest on: with two CPUs or more, the simulator on the
+    first and every other process on the last, so that physics steps while the nodes compute
+    the next command (sim.command_delay_ticks >= 1). Returns (cpus, pins) for run_experiment;
+    (None, {}) on one CPU."""
+    if len(os.sched_getaffinity(0)) < 2:
+        return None, {}
+    return [-1], {"dmpl_sim": [0]}
+
+
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
-                   echo=True, progress=None, one_process=False, record=True, cpus=None):
+                   echo=True, progress=None, one_process=False, record=True, cpus=None,
+                   pins=None):
     """Runs one experiment and returns its summary (also written to OUT/summary.json).
 
     one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results).
     cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
-    the recorder then runs on the others."""
+    the recorder then runs on the others.
+    pins: {process name: CPUs} for single processes, over `cpus` and the config's own."""
     config = experiment.resolve(config_path, params, sets, seed)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
@@ -38,7 +51,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
                       "exit_ends_set": True}]
         set_data = {"name": name, "processes": processes, "record": False}
     else:
-        set_data = {"name": name, "processes": config["processes"]}
+        set_data = {"name": name, "processes": _pinned(config["processes"], pins or {})}
     if cpus:
         set_data["cpus"] = list(cpus)
     pset = parse_set(set_data, f"{config_path}: processes", variables)
@@ -98,6 +111,17 @@ def _metrics_of(log_path, config):
     return _plain(metrics.compute(LogData(log_path), config))
 
 
+def _pinned(processes, pins):
+    """The config's processes with `pins` applied; a name the set does not have is an error."""
+    names = [p.get("name") for p in processes]
+    for name in pins:
+        if name not in names:
+            raise SetError(f"--pin {name}: the experiment has no such process (it has "
+                           f"{', '.join(map(str, names))})")
+    return [dict(p, cpus=list(pins[p["name"]])) if p.get("name") in pins else p
+            for p in processes]
+
+
 def compute_metrics(log_path, config):
     """The run's metrics from its log, in a process of their own: decoding a long log is a minute
     of pure Python, and a sweep's trials (threads) would otherwise take turns at the GIL."""
@@ -151,6 +175,14 @@ def cpu_list(text):
         raise argparse.ArgumentTypeError(f"expected CPU numbers like 1 or -1 or 0,1, got '{text}'")
 
 
+def pin_arg(text):
+    """--pin dmpl_sim=0 -> ("dmpl_sim", [0])"""
+    name, sep, cpus = text.partition("=")
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected NAME=CPUS like dmpl_sim=0, got '{text}'")
+    return name, cpu_list(cpus)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="tools/dmpl run", description=__doc__)
     add_common_args(ap)
@@ -161,11 +193,23 @@ def main(argv=None):
     ap.add_argument("--cpus", type=cpu_list, metavar="LIST",
                     help="pin the experiment's processes to these CPUs (-1: the last); the "
                     "recorder runs on the others")
+    ap.add_argument("--pin", type=pin_arg, action="append", default=[], metavar="NAME=LIST",
+                    help="pin one process (e.g. dmpl_sim=0), over --cpus")
+    ap.add_argument("--loop-layout", action="store_true",
+                    help="the fastest layout of a lockstep loop on two CPUs: --cpus -1 "
+                    "--pin dmpl_sim=0 (what demo and bench use)")
     args = ap.parse_args(argv)
+    cpus, pins = args.cpus, dict(args.pin)
+    if args.loop_layout and not args.one_process:
+        layout_cpus, layout_pins = loop_layout()
+        cpus, pins = cpus or layout_cpus, {**layout_pins, **pins}
+    if args.one_process and pins:
+        print("dmpl run: error: --pin: one-process mode runs a single process", file=sys.stderr)
+        return 2
     try:
         summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
                                       args.lcm_url, echo=not args.quiet,
-                                      one_process=args.one_process, cpus=args.cpus)
+                                      one_process=args.one_process, cpus=cpus, pins=pins)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2
