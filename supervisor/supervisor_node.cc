@@ -1,6 +1,7 @@
 // dmpl_supervisor: the grasp and regrasp statecharts on LCM. Reads sections: run, hand, task,
-// supervisor. In lockstep it answers every DMPL_CONTROLLER_STATUS k with the DMPL_TASK of seq k
-// (the controller uses it at tick k + 1), so every task takes effect at a defined tick.
+// supervisor. It answers every DMPL_CONTROLLER_REPORT k (one every controller.report_period_ticks)
+// with the DMPL_TASK of seq k; in lockstep the controller uses it from tick k + 1, so every task
+// takes effect at a defined tick.
 //   dmpl_supervisor --dot      prints the charts (grasp; regrasp per task.turn; Graphviz), exits
 //   dmpl_supervisor --mermaid  the same in Mermaid, as drawn in the README
 #include <cstring>
@@ -30,7 +31,7 @@ class SupervisorNode : public Node {
         params_(params),
         fingers_(fingers),
         core_(fingers, std::move(tasks), task_params, params) {
-    listen(channels::kControllerStatus).subscribe(channels::kControllerStatus, &SupervisorNode::OnStatus, this);
+    listen(channels::kControllerReport).subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
     listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
     AddTimer(0.2, [this] { CheckHeartbeats(); });
   }
@@ -56,7 +57,7 @@ class SupervisorNode : public Node {
     }
   }
 
-  void OnStatus(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
+  void OnReport(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
     ControllerView view;
     view.seq = m->seq;
     view.time_s = m->utime * 1e-6;

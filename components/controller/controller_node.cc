@@ -1,8 +1,11 @@
 // dmpl_controller: the local manipulation controller on LCM. Reads sections: run, hand, controller.
 // In: DMPL_SENSORS (sensed joints, object pose, fingertips), DMPL_TASK.
-// Out: DMPL_FINGER_TARGETS, DMPL_CONTROLLER_STATUS (with events).
+// Out: DMPL_FINGER_TARGETS; DMPL_CONTROLLER_STATUS every tick (with its events) for logs and
+// tools; DMPL_CONTROLLER_REPORT every controller.report_period_ticks (with every event since the
+// last report) for the supervisor.
 // Lockstep: tick k runs when the sensed data of tick k and (controller.wait_for_task) the task
-// that answers tick k-1 have arrived, so a task takes effect at a defined tick.
+// that answers the last report before tick k have arrived, so a task takes effect at a defined
+// tick.
 #include <iterator>
 #include <limits>
 #include <map>
@@ -46,7 +49,8 @@ class ControllerNode : public Node {
         model_(std::move(model)),
         kin_(model_),
         core_(kin_, params, 0.001),
-        gate_(MakeGate(params.wait_for_task)) {
+        report_period_(params.report_period_ticks),
+        gate_(MakeGate(params.wait_for_task, params.report_period_ticks)) {
     const int nf = kin_.num_fingers();
     task_.fingers.resize(nf);
     sensed_.tips.resize(nf);
@@ -65,9 +69,9 @@ class ControllerNode : public Node {
  private:
   enum Input : size_t { kSensorsIn = 0, kTaskIn = 1 };
 
-  static LockstepGate MakeGate(bool wait_for_task) {
+  static LockstepGate MakeGate(bool wait_for_task, int report_period) {
     std::vector<LockstepGate::Input> inputs = {{"sensors", 0, 0}};
-    if (wait_for_task) inputs.push_back({"task", -1, 1});
+    if (wait_for_task) inputs.push_back({"task", -1, 1, report_period});
     return LockstepGate(inputs);
   }
 
@@ -78,7 +82,7 @@ class ControllerNode : public Node {
       return;
     }
     if (input == kTaskIn && !wait_for_task_) return;  // the gate has no task input
-    if (auto tick = gate_.Arrive(input, seq)) Tick(*tick);
+    for (const int64_t tick : gate_.Arrive(input, seq)) Tick(tick);
   }
 
   void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* m) {
@@ -144,7 +148,7 @@ class ControllerNode : public Node {
     }
     sensed_ = std::move(in->second);
     sensed_by_seq_.erase(sensed_by_seq_.begin(), std::next(in));
-    // The task that answers tick - 1 (in real time: the newest there is).
+    // The task that answers the last report before this tick (in real time: the newest).
     const int64_t wanted =
         lockstep_ && wait_for_task_ ? tick - 1 : std::numeric_limits<int64_t>::max();
     const auto it = tasks_.upper_bound(wanted);
@@ -202,6 +206,15 @@ class ControllerNode : public Node {
     }
     status_.num_events = static_cast<int16_t>(status_.events.size());
     lcm(channels::kControllerStatus).publish(channels::kControllerStatus, &status_);
+    // The report: this status with every event since the last one (none may be lost between).
+    report_events_.insert(report_events_.end(), status_.events.begin(), status_.events.end());
+    if (tick % report_period_ == 0) {
+      std::swap(status_.events, report_events_);
+      status_.num_events = static_cast<int16_t>(std::min<size_t>(status_.events.size(), 32767));
+      status_.events.resize(status_.num_events);
+      lcm(channels::kControllerReport).publish(channels::kControllerReport, &status_);
+      report_events_.clear();
+    }
     set_tick(tick);
   }
 
@@ -210,6 +223,7 @@ class ControllerNode : public Node {
   HandModel model_;
   HandKinematics kin_;
   ManipulationController core_;
+  int report_period_;
   LockstepGate gate_;
   SensedInput sensed_;                             // the tick being computed
   std::map<int64_t, SensedInput> sensed_by_seq_;   // arrived, not yet computed
@@ -218,6 +232,7 @@ class ControllerNode : public Node {
   int32_t last_task_id_ = -1;
   finger_targets_t targets_{};
   controller_status_t status_{};
+  std::vector<controller_event_t> report_events_;  // since the last report
 };
 
 }  // namespace

@@ -61,6 +61,10 @@ struct ControllerParams {
   double stable_force_tolerance = 0.35;  // |f - f*| < tol * f* for every grip finger...
   double stable_hold_s = 0.15;           // ...this long: GRASP_STABLE
   bool wait_for_task = true;             // lockstep: tick k waits for the supervisor's answer to k-1
+  // The supervisor's period: every this many ticks the controller reports (DMPL_CONTROLLER_REPORT,
+  // with the events since the last report) and the supervisor answers; a task takes effect the
+  // tick after the report it answers. Its full status goes out every tick all the same.
+  int report_period_ticks = 10;
   // Tactile calibration (tools/dmpl calibrate): force = (sensed - bias) / scale, contact point =
   // sensed - offset.
   double tactile_force_scale = 1.0;
@@ -104,6 +108,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(stable_force_tolerance));
     a->Visit(DMPL_NVP(stable_hold_s));
     a->Visit(DMPL_NVP(wait_for_task));
+    a->Visit(DMPL_NVP(report_period_ticks));
     a->Visit(DMPL_NVP(tactile_force_scale));
     a->Visit(DMPL_NVP(tactile_force_bias));
     a->Visit(DMPL_NVP(tactile_position_offset));

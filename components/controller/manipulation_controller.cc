@@ -22,6 +22,9 @@ void ControllerParams::Validate(const std::string& source) const {
     throw ConfigError("config error in " + source + ": key 'controller." + key + "': " + what);
   };
   if (position_gain < 0 || position_gain > 2) fail("position_gain", "must be in [0, 2]");
+  if (report_period_ticks < 1 || report_period_ticks > 1000) {
+    fail("report_period_ticks", "must be in [1, 1000]");
+  }
   if (!(max_linear_speed > 0)) fail("max_linear_speed", "must be > 0");
   if (!(max_angular_speed > 0)) fail("max_angular_speed", "must be > 0");
   if (object_position_time_constant_s < 0) fail("object_position_time_constant_s", "must be >= 0");

@@ -12,8 +12,10 @@ inline constexpr char kSensors[] = "DMPL_SENSORS";
 inline constexpr char kFingerTargets[] = "DMPL_FINGER_TARGETS";
 inline constexpr char kJointCmd[] = "DMPL_JOINT_CMD";
 inline constexpr char kIkStatus[] = "DMPL_IK_STATUS";
-// Supervisor <-> controller.
+// Supervisor <-> controller: a report every controller.report_period_ticks, answered by a task.
 inline constexpr char kTask[] = "DMPL_TASK";
+inline constexpr char kControllerReport[] = "DMPL_CONTROLLER_REPORT";
+// The controller's status of every tick (logs, calibration, metrics, lcm-spy).
 inline constexpr char kControllerStatus[] = "DMPL_CONTROLLER_STATUS";
 inline constexpr char kSupervisorStatus[] = "DMPL_SUPERVISOR_STATUS";
 // Simulator control and status.
@@ -48,7 +50,8 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kIkStatus, 7},
     {kSimControl, 4},
     {kTask, 5},
-    {kControllerStatus, 6},
+    {kControllerReport, 6},
+    {kControllerStatus, 7},
     {kSupervisorStatus, 7},
 };
 

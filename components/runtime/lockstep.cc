@@ -8,37 +8,52 @@ namespace dmpl {
 
 LockstepGate::LockstepGate(std::vector<Input> inputs)
     : inputs_(std::move(inputs)),
-      latest_(inputs_.size(), std::numeric_limits<int64_t>::min()) {
+      served_(inputs_.size(), std::numeric_limits<int64_t>::min()) {
   DMPL_DEMAND(!inputs_.empty());
+  DMPL_DEMAND(inputs_[0].seq_offset == 0 && inputs_[0].period == 1);
+  for (const Input& in : inputs_) DMPL_DEMAND(in.period >= 1);
+}
+
+int64_t LockstepGate::LastTickServed(size_t index, int64_t seq) const {
+  // seq serves every tick k with floor((k + offset) / period) * period == seq.
+  const Input& in = inputs_[index];
+  return seq - in.seq_offset + in.period - 1;
 }
 
 bool LockstepGate::Complete(int64_t tick) const {
-  for (size_t i = 0; i < inputs_.size(); ++i) {
+  for (size_t i = 1; i < inputs_.size(); ++i) {
     if (tick < inputs_[i].first_tick) continue;
-    if (latest_[i] < tick) return false;
+    if (served_[i] < tick) return false;
   }
   return true;
 }
 
-std::optional<int64_t> LockstepGate::Arrive(size_t index, int64_t seq) {
+std::vector<int64_t> LockstepGate::Arrive(size_t index, int64_t seq) {
   DMPL_DEMAND(index < inputs_.size());
-  const int64_t tick = seq - inputs_[index].seq_offset;
-  if (tick <= last_tick_) {
+  const int64_t served = LastTickServed(index, seq);
+  if (served <= last_tick_ || (index == 0 && pending_.count(seq) != 0)) {
     ++stale_;
-    return std::nullopt;
+    return {};
   }
-  if (tick > latest_[index]) latest_[index] = tick;
-  // Ticks are sequential in lockstep: the arriving message can only complete its own tick.
-  if (!Complete(tick)) return std::nullopt;
-  last_tick_ = tick;
-  return tick;
+  if (index == 0) {
+    pending_.insert(seq);
+  } else if (served > served_[index]) {
+    served_[index] = served;
+  }
+  std::vector<int64_t> fired;
+  while (!pending_.empty() && Complete(*pending_.begin())) {
+    last_tick_ = *pending_.begin();
+    pending_.erase(pending_.begin());
+    fired.push_back(last_tick_);
+  }
+  return fired;
 }
 
 std::string LockstepGate::Missing() const {
-  std::string missing;
-  const int64_t next = last_tick_ + 1;
-  for (size_t i = 0; i < inputs_.size(); ++i) {
-    if (next >= inputs_[i].first_tick && latest_[i] < next) {
+  const int64_t next = pending_.empty() ? last_tick_ + 1 : *pending_.begin();
+  std::string missing = pending_.empty() ? inputs_[0].name : "";
+  for (size_t i = 1; i < inputs_.size(); ++i) {
+    if (next >= inputs_[i].first_tick && served_[i] < next) {
       missing += (missing.empty() ? "" : ", ") + inputs_[i].name;
     }
   }

@@ -27,12 +27,12 @@ def rot_x(angle):
 
 
 class Supervisor(threading.Thread):
-    """Answers every controller status k with the task of tick k (lockstep)."""
+    """Answers every controller report k with the task of seq k (lockstep), as dmpl_supervisor."""
 
     def __init__(self):
         super().__init__(daemon=True)
         self.bus = mp.Bus()
-        self.bus.subscribe("DMPL_CONTROLLER_STATUS", self.on_status)
+        self.bus.subscribe("DMPL_CONTROLLER_REPORT", self.on_status)
         self.stop = False
         self.phase, self.task_id = "grip", 1
         self.start_pose = None

@@ -1,6 +1,6 @@
 """Issue 6: the main job's pieces. The demo experiment (a shorter rotation) runs and its report
 files exist and are valid images; one-process and multi-process lockstep runs with the same seed
-give the same metrics; replaying a recorded log's sensed channels and tasks into a fresh
+give the same metrics, with the actuation delay in the two-CPU layout and without it; replaying a recorded log's sensed channels and tasks into a fresh
 controller reproduces its recorded commands; a sweep of 3 seeds completes and its table matches
 the individual runs."""
 import json
@@ -13,7 +13,8 @@ import unittest
 from pathlib import Path
 
 import mp
-from dmpl_tools.run import run_experiment
+from dmpl_tools.launch import SetError
+from dmpl_tools.run import loop_layout, run_experiment
 from dmpl_tools.sweep import run_sweep
 
 ROOT = Path(mp.ROOT)
@@ -51,12 +52,24 @@ class MainJobTest(unittest.TestCase):
         self.assertIn("[demo] sim", r.stderr, "progress is shown while it runs")
 
     def test_one_process_equals_multi_process(self):
-        a, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=SHORT, echo=False)
-        b, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=SHORT, echo=False,
-                              one_process=True)
-        for key in METRIC_KEYS:
-            self.assertEqual(a[key], b[key], key)
-        self.assertEqual(a["status"], "success")
+        # With the actuation delay the simulator runs a tick ahead of the nodes, in parallel in
+        # the two-CPU layout; without it nothing overlaps. Either way: the one-process result.
+        cpus, pins = loop_layout()
+        for delay, layout in ((1, {"cpus": cpus, "pins": pins}), (0, {})):
+            sets = [*SHORT, f"sim.command_delay_ticks={delay}"]
+            a, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=sets, echo=False,
+                                  **layout)
+            b, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=sets, echo=False,
+                                  one_process=True)
+            for key in METRIC_KEYS:
+                self.assertEqual(a[key], b[key], f"{key}, delay {delay}")
+            self.assertEqual(a["status"], "success")
+
+    def test_pinning_a_process_the_set_lacks_is_an_error(self):
+        with self.assertRaisesRegex(SetError, r"--pin dmpl_simm: the experiment has no such "
+                                    r"process \(it has dmpl_noise, .*dmpl_sim\)"):
+            run_experiment(FIG8, tempfile.mkdtemp(), sets=SHORT, echo=False,
+                           pins={"dmpl_simm": [0]})
 
     def test_replay_reproduces_the_controller(self):
         summary, out = run_experiment(FIG8, tempfile.mkdtemp(), seed=3, sets=SHORT, echo=False,
