@@ -128,16 +128,16 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("what", choices=["sim", "ik", "loop"])
     ap.add_argument("--json", help="write the result here too")
-    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--rounds", type=int, help="alternating rounds (default: sim 3, loop 5)")
     args = ap.parse_args(argv)
     if args.what == "sim":
-        result = bench_sim(args.rounds)
+        result = bench_sim(args.rounds or 3)
     elif args.what == "ik":
         from .bench_ik import bench_ik
         result = bench_ik()
     else:
         from .bench_loop import bench_loop
-        result = bench_loop(args.rounds)
+        result = bench_loop(args.rounds or 5)
     text = json.dumps(result, indent=2)
     print(text)
     if args.json:

@@ -8,7 +8,7 @@ physics steps while the nodes compute the next command. Beside it, the loop with
 wakeup is the cheapest) and the loop with the scheduler free.
 
 Keys: rtf_multiprocess, rtf_oneprocess (steady state, from the simulator's own clock, recording
-off; the median of three alternating rounds), rtf_multiprocess_no_delay,
+off; the median of five alternating rounds), rtf_multiprocess_no_delay,
 rtf_multiprocess_unpinned, tick_us_multiprocess, tick_us_oneprocess, tick_overhead_us (what
 multi-process adds per tick; with the delay part of it runs in parallel), lcm_hop_us (half a
 ping-pong round trip of a message of the loop's mean size between two processes on one CPU;
@@ -16,7 +16,9 @@ lcm_hop_us_unpinned with the scheduler free), hops_per_tick (sim -> noise -> con
 -> sim), overhead_vs_raw = tick_overhead_us / (hops_per_tick * lcm_hop_us) and the same without
 the delay (overhead_vs_raw_no_delay: what the framework adds over bare LCM when nothing
 overlaps); in real time, latency_p50_us and latency_p99_us from a sensor tick to the command
-that answers it; and the CPU time per tick of each process.
+that answers it; the CPU time per tick of each process; and steal_multiprocess, steal_max: the
+CPU time a virtual machine's host took per second of the chosen and of the worst run (a host
+that takes a CPU stalls a loop spread over two: read the rtf with it).
 """
 import json
 import os
@@ -42,11 +44,23 @@ HOPS_PER_TICK = 4
 ONE_CPU = [-1]
 
 
+def _stolen_cpu_s():
+    """CPU time the hypervisor took from this machine's CPUs so far (/proc/stat 'steal')."""
+    with open("/proc/stat") as f:
+        fields = f.readline().split()
+    return int(fields[8]) / os.sysconf("SC_CLK_TCK") if len(fields) > 8 else 0.0
+
+
 def _run(tmp, tag, one_process, sets=(), cpus=ONE_CPU, pins=None):
+    """One run's simulator stats, with `steal`: the CPUs' time the hypervisor took per second
+    of the run (0.25: a quarter of a CPU; a loop on two CPUs then waits for the one taken)."""
     stats = Path(tmp) / f"{tag}.json"
+    stolen = _stolen_cpu_s()
     run_experiment(SCENARIO, Path(tmp) / tag, sets=[f"sim.stats_file={stats}", *sets],
                    echo=False, one_process=one_process, record=False, cpus=cpus, pins=pins)
-    return json.loads(stats.read_text()), Path(tmp) / tag
+    result = json.loads(stats.read_text())
+    result["steal"] = (_stolen_cpu_s() - stolen) / max(result["wall_time_s"], 1e-9)
+    return result, Path(tmp) / tag
 
 
 def _mean_message_bytes(tmp):
@@ -89,7 +103,7 @@ def _median(runs):
     return sorted(runs, key=lambda x: x[0]["tick_us"])[len(runs) // 2]
 
 
-def bench_loop(rounds=3):
+def bench_loop(rounds=5):
     """Alternates the runs `rounds` times and takes the medians: a virtual machine's timing
     wanders from one second to the next."""
     delayed, no_delay = ["sim.command_delay_ticks=1"], ["sim.command_delay_ticks=0"]
@@ -104,11 +118,14 @@ def bench_loop(rounds=3):
             runs["one"].append(_run(tmp, f"one{r}", True, delayed))
             runs["no_delay"].append(_run(tmp, f"nodelay{r}", False, no_delay))
             runs["free"].append(_run(tmp, f"free{r}", False, delayed, cpus=None))
-            print(f"round {r + 1}/{rounds}: us/tick multi-process "
-                  f"{runs['multi'][-1][0]['tick_us']:.0f}, one-process "
-                  f"{runs['one'][-1][0]['tick_us']:.0f}, multi-process without the delay "
-                  f"{runs['no_delay'][-1][0]['tick_us']:.0f}, multi-process unpinned "
-                  f"{runs['free'][-1][0]['tick_us']:.0f}", file=sys.stderr)
+            print(f"round {r + 1}/{rounds}: us/tick (stolen CPU per s) "
+                  + ", ".join(f"{label} {runs[key][-1][0]['tick_us']:.0f} "
+                              f"({runs[key][-1][0]['steal']:.2f})"
+                              for key, label in (("multi", "multi-process"),
+                                                 ("one", "one-process"),
+                                                 ("no_delay", "multi-process without the delay"),
+                                                 ("free", "multi-process unpinned"))),
+                  file=sys.stderr)
         (multi, multi_dir), (one, _) = _median(runs["multi"]), _median(runs["one"])
         (bare, bare_dir), (free, _) = _median(runs["no_delay"]), _median(runs["free"])
         # Real time as a real hand runs it: the scheduler free.
@@ -138,6 +155,8 @@ def bench_loop(rounds=3):
             "latency_p50_us": realtime["latency_p50_us"],
             "latency_p99_us": realtime["latency_p99_us"],
             "realtime_late_commands": realtime["late_commands"],
+            "steal_multiprocess": multi["steal"],
+            "steal_max": max(x[0]["steal"] for v in runs.values() for x in v),
             "cpu_us_per_tick_multiprocess": _cpu_per_tick(multi_dir, multi["ticks"]),
             "cpu_us_per_tick_multiprocess_no_delay": _cpu_per_tick(bare_dir, bare["ticks"]),
             "ticks": multi["ticks"],
