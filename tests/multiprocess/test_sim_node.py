@@ -13,7 +13,7 @@ import time
 import unittest
 
 import mp
-from dmpl import hand_sensors_t, heartbeat_t, joint_cmd_t, sim_status_t
+from dmpl import hand_sensors_t, heartbeat_t, joint_cmd_t, sim_control_t, sim_status_t
 
 CONFIG = """
 run: {lockstep: true, lockstep_participants: [test_driver], tick_timeout_s: 0.3, max_tick_faults: 2}
@@ -84,6 +84,29 @@ class SimNodeTest(unittest.TestCase):
         faults = [s for s in bus.received["DMPL_SIM_STATUS"] if s.faults > 0]
         self.assertTrue(faults)
         self.assertIn("no JOINT_CMD for seq 20", faults[-1].last_fault)
+
+    def test_a_paused_simulator_keeps_the_command_until_resumed(self):
+        sim, bus, states, answer = self.start(1)
+        names, q0 = list(states[0].name), list(states[0].position)
+
+        def control(command):
+            c = sim_control_t()
+            c.seq, c.command, c.reason = -1, command, "test"
+            bus.publish("DMPL_SIM_CONTROL", c)
+
+        answer(0, q0)
+        control(sim_control_t.PAUSE)
+        bus.spin(0.1)
+        cmd = joint_cmd_t()
+        cmd.seq, cmd.num_joints, cmd.name, cmd.position = 1, len(names), names, q0
+        bus.publish("DMPL_JOINT_CMD", cmd)
+        bus.spin(0.5)  # longer than run.tick_timeout_s: a pause is no fault
+        self.assertEqual(len(states), 3, "stepped while paused")
+        control(sim_control_t.RESUME)
+        bus.wait_for(lambda: len(states) > 3, 5, "tick 3 after the resume")
+        self.assertEqual(states[3].seq, 3)
+        answer(2, q0)
+        self.assertFalse(any(s.faults for s in bus.received.get("DMPL_SIM_STATUS", [])))
 
     def test_lockstep_commands_rejections_and_faults(self):
         sim, bus, states, answer = self.start(0)
