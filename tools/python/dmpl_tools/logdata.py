@@ -1,4 +1,5 @@
 """Reads a dmpl LCM log into numpy arrays, one table per channel we care about."""
+import gc
 from dataclasses import dataclass, field
 
 import lcm
@@ -31,6 +32,17 @@ class LogData:
     """The decoded content of a run's log."""
 
     def __init__(self, path):
+        # Decoding makes millions of small objects and no cycles: the cyclic collector would
+        # walk them again and again (a 120 s run decodes in 25 s without it, 46 s with it).
+        was_enabled = gc.isenabled()
+        gc.disable()
+        try:
+            self._read(path)
+        finally:
+            if was_enabled:
+                gc.enable()
+
+    def _read(self, path):
         from dmpl import (controller_status_t, hand_sensors_t, sim_control_t, sim_status_t,
                           supervisor_status_t, task_cmd_t)
         decoders = {
