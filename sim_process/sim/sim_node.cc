@@ -11,7 +11,6 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
-#include <iterator>
 #include <map>
 
 #include "components/hand/hand_model.h"
@@ -180,7 +179,7 @@ class SimNode : public Node {
         const auto it = commands_.find(due);
         if (it == commands_.end()) return;
         ApplyCommand(it->second);
-        commands_.erase(commands_.begin(), std::next(it));
+        commands_.erase(it);  // the earliest: older ones are refused as stale
       }
       Advance();
     }
@@ -213,7 +212,7 @@ class SimNode : public Node {
                                 1e6);
         last_answered_ = cmd->seq;
       }
-      if (cmd->seq > tick_ || commands_.size() > kLatencyWindow) {
+      if (cmd->seq > tick_) {  // so at most command_delay_ticks commands wait
         ++rejected_;
         last_fault_ = "command for seq " + std::to_string(cmd->seq) + " ahead of tick " +
                       std::to_string(tick_);

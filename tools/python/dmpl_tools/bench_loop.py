@@ -42,6 +42,7 @@ HOPS_PER_TICK = 4
 
 
 ONE_CPU = [-1]
+DELAY = 1  # sim.command_delay_ticks of the loop as it runs by default
 
 
 def _stolen_cpu_s():
@@ -106,7 +107,7 @@ def _median(runs):
 def bench_loop(rounds=5):
     """Alternates the runs `rounds` times and takes the medians: a virtual machine's timing
     wanders from one second to the next."""
-    delayed, no_delay = ["sim.command_delay_ticks=1"], ["sim.command_delay_ticks=0"]
+    delayed, no_delay = [f"sim.command_delay_ticks={DELAY}"], ["sim.command_delay_ticks=0"]
     layout_cpus, layout_pins = loop_layout()
     with tempfile.TemporaryDirectory(prefix="dmpl_bench_loop_") as tmp:
         nbytes = _mean_message_bytes(tmp)
@@ -138,7 +139,7 @@ def bench_loop(rounds=5):
             "rtf_oneprocess": one["realtime_factor"],
             "rtf_multiprocess_no_delay": bare["realtime_factor"],
             "rtf_multiprocess_unpinned": free["realtime_factor"],
-            "command_delay_ticks": 1,
+            "command_delay_ticks": DELAY,
             "loop_cpus": {"dmpl_sim": layout_pins.get("dmpl_sim", layout_cpus),
                           "others": layout_cpus, "no_delay": ONE_CPU},
             "tick_us_multiprocess": multi["tick_us"],

@@ -466,8 +466,9 @@ class Launcher:
         ACTIVE.add(self)
         # This thread (the launcher) stays off a pinned loop's CPUs while it runs.
         before = os.sched_getaffinity(0)
-        if self._other_cpus():
-            os.sched_setaffinity(0, self._other_cpus())
+        others = self._other_cpus()
+        if others:
+            os.sched_setaffinity(0, others)
         try:
             return self._run(duration)
         finally:
