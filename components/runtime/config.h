@@ -21,6 +21,7 @@ struct RunParams {
   int max_tick_faults = 5;         // lockstep: give up (exit non-zero) after this many faults
   double heartbeat_period_s = 0.25;
   std::vector<std::string> lockstep_participants = {"dmpl_noise", "dmpl_ik", "dmpl_controller"};
+  std::string record = "full";     // what the run's log keeps: full, analysis or none (tools)
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -32,6 +33,7 @@ struct RunParams {
     a->Visit(DMPL_NVP(max_tick_faults));
     a->Visit(DMPL_NVP(heartbeat_period_s));
     a->Visit(DMPL_NVP(lockstep_participants));
+    a->Visit(DMPL_NVP(record));
   }
 };
 

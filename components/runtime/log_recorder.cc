@@ -6,13 +6,20 @@
 
 namespace dmpl {
 
-LogRecorder::LogRecorder(LcmBus* bus, const std::string& path, const std::string& channels)
-    : log_(lcm_eventlog_create(path.c_str(), "w")) {
-  if (log_ == nullptr) {
-    throw std::runtime_error("cannot create log file '" + path + "': " + std::strerror(errno));
+LogRecorder::LogRecorder(LcmBus* bus, const RecordOptions& options) : filter_(options.policy) {
+  if (options.policy != RecordPolicy::kNone) {
+    if (options.log_path.empty()) throw std::runtime_error("no log file to record to");
+    log_ = lcm_eventlog_create(options.log_path.c_str(), "w");
+    if (log_ == nullptr) {
+      throw std::runtime_error("cannot create log file '" + options.log_path +
+                               "': " + std::strerror(errno));
+    }
+  }
+  if (!options.columns_dir.empty()) {
+    columns_ = std::make_unique<LogColumns>(options.columns_dir, ".*", options.columns_fields);
   }
   for (lcm::LCM* l : bus->All()) {
-    lcm::Subscription* sub = l->subscribe(channels, &LogRecorder::OnMessage, this);
+    lcm::Subscription* sub = l->subscribe(options.channels, &LogRecorder::OnMessage, this);
     sub->setQueueCapacity(1 << 20);
     subs_.emplace_back(l, sub);
   }
@@ -20,12 +27,28 @@ LogRecorder::LogRecorder(LcmBus* bus, const std::string& path, const std::string
 
 LogRecorder::~LogRecorder() {
   for (auto& [l, sub] : subs_) l->unsubscribe(sub);
-  lcm_eventlog_destroy(log_);
+  if (log_ != nullptr) lcm_eventlog_destroy(log_);
 }
 
-void LogRecorder::Flush() { fflush(log_->f); }
+void LogRecorder::Flush() {
+  if (log_ != nullptr) fflush(log_->f);
+}
+
+void LogRecorder::Finish() {
+  Flush();
+  if (columns_) {
+    columns_->Finish("\"recorded\": {\"policy\": \"" + std::string(RecordPolicyName(filter_.policy())) +
+                     "\", \"received\": " + std::to_string(received_) +
+                     ", \"written\": " + std::to_string(written_) +
+                     ", \"failed\": " + std::to_string(failed_) + "}");
+  }
+}
 
 void LogRecorder::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  ++received_;
+  const auto* data = static_cast<const uint8_t*>(rbuf->data);
+  if (columns_) columns_->Add(channel, data, rbuf->data_size);
+  if (log_ == nullptr || !filter_.Keep(channel, data, rbuf->data_size)) return;
   lcm_eventlog_event_t event{};
   event.eventnum = written_;
   event.timestamp = rbuf->recv_utime;

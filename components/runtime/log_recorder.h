@@ -1,34 +1,52 @@
 #pragma once
-// Records every message of an LCM instance into an LCM log file (the format of lcm-logger and
-// lcm.EventLog). Its subscription queue is large: at 1 kHz lockstep a short stall of the recorder
-// must not drop messages (LCM's default queue holds 30).
+// Records the messages of an LCM instance into an LCM log file (the format of lcm-logger and
+// lcm.EventLog), keeping what its record policy keeps, and (when asked) extracts every message's
+// columns for the metrics online, whatever the policy keeps. Its subscription queue is large: at
+// 1 kHz lockstep a short stall of the recorder must not drop messages (LCM's default holds 30).
 #include <lcm/eventlog.h>
 
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "components/logging/log_columns.h"
+#include "components/logging/record_policy.h"
 #include "components/runtime/lcm_bus.h"
 
 namespace dmpl {
 
+struct RecordOptions {
+  std::string log_path;     // empty: no log (policy none)
+  RecordPolicy policy = RecordPolicy::kFull;
+  std::string channels = ".*";
+  std::string columns_dir;  // non-empty: the metrics' columns of every message, online
+  std::string columns_fields = ".*";  // which of their fields (LogColumns)
+};
+
 class LogRecorder {
  public:
-  // Records every bus of `bus`. Throws std::runtime_error when the file cannot be created.
-  LogRecorder(LcmBus* bus, const std::string& path, const std::string& channels = ".*");
+  // Records every bus of `bus`. Throws std::runtime_error when a file cannot be created.
+  LogRecorder(LcmBus* bus, const RecordOptions& options);
   ~LogRecorder();
   LogRecorder(const LogRecorder&) = delete;
   LogRecorder& operator=(const LogRecorder&) = delete;
 
   void Flush();
+  // Closes the columns (writes their meta.json). Throws std::runtime_error on I/O errors.
+  void Finish();
+  int64_t received() const { return received_; }
   int64_t written() const { return written_; }
   int64_t failed() const { return failed_; }
 
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  lcm_eventlog_t* log_;
+  lcm_eventlog_t* log_ = nullptr;
+  RecordFilter filter_;
+  std::unique_ptr<LogColumns> columns_;
   std::vector<std::pair<lcm::LCM*, lcm::Subscription*>> subs_;
+  int64_t received_ = 0;
   int64_t written_ = 0;
   int64_t failed_ = 0;
 };

@@ -4,7 +4,8 @@
 // baseline that the multi-process overhead is measured against.
 //
 // usage: dmpl_oneprocess --config EXPERIMENT.yaml [--set key=value]... [--params FILE]...
-//                        [--record FILE]
+//                        [--record FILE] [--record-policy full|analysis|none] [--columns DIR]
+//                        [--columns-fields REGEX]
 // The experiment's `processes` say which nodes run (by their executables' names).
 #include <csignal>
 #include <iostream>
@@ -33,11 +34,19 @@ const std::map<std::string, Factory>& Factories() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string record;
+  dmpl::RecordOptions record;
+  std::string policy;
   std::vector<char*> args = {argv[0]};
   for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--record" && i + 1 < argc) {
-      record = argv[++i];
+    const std::string arg = argv[i];
+    if (arg == "--record" && i + 1 < argc) {
+      record.log_path = argv[++i];
+    } else if (arg == "--record-policy" && i + 1 < argc) {
+      policy = argv[++i];
+    } else if (arg == "--columns" && i + 1 < argc) {
+      record.columns_dir = argv[++i];
+    } else if (arg == "--columns-fields" && i + 1 < argc) {
+      record.columns_fields = argv[++i];
     } else {
       args.push_back(argv[i]);
     }
@@ -48,11 +57,14 @@ int main(int argc, char** argv) {
     cl = dmpl::ParseNodeCommandLine(static_cast<int>(args.size()), args.data());
     if (cl.help) {
       std::cout << "usage: dmpl_oneprocess --config FILE [--set key=value]... [--params FILE]..."
-                   " [--record LOG]\n";
+                   " [--record LOG] [--record-policy full|analysis|none] [--columns DIR]"
+                   " [--columns-fields REGEX]\n";
       return 0;
     }
     ctx.config = dmpl::Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
     ctx.config.Load("run", &ctx.run);
+    record.policy = dmpl::ParseRecordPolicy(policy.empty() ? ctx.run.record : policy);
+    if (record.log_path.empty()) record.policy = dmpl::RecordPolicy::kNone;
   } catch (const std::exception& e) {
     std::cerr << "dmpl_oneprocess: " << e.what() << "\n";
     return 2;
@@ -90,7 +102,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::unique_ptr<dmpl::LogRecorder> recorder;
-  if (!record.empty()) {
+  if (!record.log_path.empty() || !record.columns_dir.empty()) {
     try {
       recorder = std::make_unique<dmpl::LogRecorder>(&bus, record);
     } catch (const std::exception& e) {
@@ -104,6 +116,14 @@ int main(int argc, char** argv) {
   const double t0 = dmpl::MonotonicSeconds();
   const int code = executor.Spin();
   while (bus.management().handleTimeout(0) > 0) {  // deliver what is still queued
+  }
+  if (recorder) {
+    try {
+      recorder->Finish();
+    } catch (const std::exception& e) {
+      log->critical("{}", e.what());
+      return 1;
+    }
   }
   log->info("{} nodes ran for {:.3f} s of wall time{}", nodes.size(), dmpl::MonotonicSeconds() - t0,
             recorder ? ", " + std::to_string(recorder->written()) + " messages recorded" : "");

@@ -5,8 +5,12 @@
 // descheduled for a millisecond or two; it then drops messages silently. Here the queue is large,
 // and the exit code says whether every write succeeded.
 //
-// usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] FILE
-// Every bus of the URL is recorded (channels.h), unless --single-bus.
+// usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] [--policy P]
+//                    [--columns DIR [--fields REGEX]] [FILE]
+// Every bus of the URL is recorded (channels.h), unless --single-bus. --policy (full, analysis,
+// none; components/logging/record_policy.h) says what FILE keeps; --columns DIR extracts the
+// metrics' columns of every message online (components/logging/log_columns.h). With --policy
+// none there is no FILE.
 #include <poll.h>
 
 #include <atomic>
@@ -23,28 +27,47 @@ void OnSignal(int) { g_stop = true; }
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string url, channels = ".*", file;
+  std::string url, policy = "full";
+  dmpl::RecordOptions options;
   bool single_bus = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if ((arg == "--lcm-url" || arg == "--channels") && i + 1 < argc) {
-      (arg == "--lcm-url" ? url : channels) = argv[++i];
+    if (arg == "--lcm-url" && i + 1 < argc) {
+      url = argv[++i];
+    } else if (arg == "--channels" && i + 1 < argc) {
+      options.channels = argv[++i];
+    } else if (arg == "--policy" && i + 1 < argc) {
+      policy = argv[++i];
+    } else if (arg == "--columns" && i + 1 < argc) {
+      options.columns_dir = argv[++i];
+    } else if (arg == "--fields" && i + 1 < argc) {
+      options.columns_fields = argv[++i];
     } else if (arg == "--single-bus") {
       single_bus = true;
     } else if (arg == "-h" || arg == "--help") {
-      std::printf("usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] FILE\n");
+      std::printf("usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] "
+                  "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [FILE]\n");
       return 0;
-    } else if (arg.rfind("--", 0) == 0 || !file.empty()) {
+    } else if (arg.rfind("--", 0) == 0 || !options.log_path.empty()) {
       std::fprintf(stderr, "dmpl_record: unexpected argument '%s' (try --help)\n", arg.c_str());
       return 2;
     } else {
-      file = arg;
+      options.log_path = arg;
     }
   }
-  if (file.empty()) {
-    std::fprintf(stderr, "dmpl_record: no output FILE given\n");
+  try {
+    options.policy = dmpl::ParseRecordPolicy(policy);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dmpl_record: --policy: %s\n", e.what());
     return 2;
   }
+  if (options.log_path.empty() != (options.policy == dmpl::RecordPolicy::kNone)) {
+    std::fprintf(stderr, "dmpl_record: %s\n", options.log_path.empty()
+                                                   ? "no output FILE given"
+                                                   : "--policy none records no FILE");
+    return 2;
+  }
+  const std::string file = options.log_path.empty() ? "(no log)" : options.log_path;
   dmpl::LcmBus bus(url, !single_bus);
   const std::vector<lcm::LCM*> instances = bus.All();
   if (!bus.good()) {
@@ -63,7 +86,7 @@ int main(int argc, char** argv) {
     return handled;
   };
   try {
-    dmpl::LogRecorder recorder(&bus, file, channels);
+    dmpl::LogRecorder recorder(&bus, options);
     struct sigaction action {};
     action.sa_handler = OnSignal;
     sigaction(SIGINT, &action, nullptr);
@@ -78,8 +101,10 @@ int main(int argc, char** argv) {
     }
     while (drain(20) > 0) {  // what arrived before the stop
     }
-    std::fprintf(stderr, "dmpl_record: %lld messages written to %s%s\n",
-                 static_cast<long long>(recorder.written()), file.c_str(),
+    recorder.Finish();
+    std::fprintf(stderr, "dmpl_record: %lld of %lld messages written to %s (policy %s)%s\n",
+                 static_cast<long long>(recorder.written()),
+                 static_cast<long long>(recorder.received()), file.c_str(), policy.c_str(),
                  recorder.failed() ? " (SOME WRITES FAILED)" : "");
     return recorder.failed() ? 1 : 0;
   } catch (const std::exception& e) {

@@ -1,0 +1,92 @@
+#include "components/logging/record_policy.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "components/runtime/channels.h"
+
+namespace dmpl {
+namespace {
+
+// The analysis policy, channel by channel (see record_policy.h for why each rate).
+KeepRule AnalysisRule(const std::string& channel) {
+  using K = KeepRule;
+  if (channel == channels::kSensorsTrue) return {K::kEveryTicks, 10};
+  if (channel == channels::kSensors) return {K::kEveryTicks, 20};
+  if (channel == channels::kControllerStatus) return {K::kBursts, 1000, 100};
+  if (channel == channels::kTask) return {K::kOnChange};
+  if (channel == channels::kFingerTargets || channel == channels::kJointCmd ||
+      channel == channels::kIkStatus) {
+    return {K::kNever};
+  }
+  return {K::kAll};
+}
+
+}  // namespace
+
+RecordPolicy ParseRecordPolicy(const std::string& name) {
+  if (name == "full") return RecordPolicy::kFull;
+  if (name == "analysis") return RecordPolicy::kAnalysis;
+  if (name == "none") return RecordPolicy::kNone;
+  throw std::invalid_argument("unknown record policy '" + name +
+                              "' (expected full, analysis or none)");
+}
+
+const char* RecordPolicyName(RecordPolicy policy) {
+  switch (policy) {
+    case RecordPolicy::kFull: return "full";
+    case RecordPolicy::kAnalysis: return "analysis";
+    case RecordPolicy::kNone: return "none";
+  }
+  return "?";
+}
+
+KeepRule RuleFor(RecordPolicy policy, const std::string& channel) {
+  switch (policy) {
+    case RecordPolicy::kFull: return {KeepRule::kAll};
+    case RecordPolicy::kAnalysis: return AnalysisRule(channel);
+    case RecordPolicy::kNone: return {KeepRule::kNever};
+  }
+  return {KeepRule::kAll};
+}
+
+int64_t SeqOfMessage(const void* data, size_t size) {
+  if (size < 24) return -1;
+  const auto* b = static_cast<const uint8_t*>(data) + 16;
+  uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v = (v << 8) | b[i];
+  return static_cast<int64_t>(v);
+}
+
+bool RecordFilter::Keep(const std::string& channel, const void* data, size_t size) {
+  auto it = rules_.find(channel);
+  if (it == rules_.end()) it = rules_.emplace(channel, RuleFor(policy_, channel)).first;
+  const KeepRule& rule = it->second;
+  switch (rule.kind) {
+    case KeepRule::kAll: return true;
+    case KeepRule::kNever: return false;
+    case KeepRule::kEveryTicks:
+    case KeepRule::kBursts: {
+      const int64_t seq = SeqOfMessage(data, size);
+      if (seq < 0) return true;
+      const int64_t phase = seq % rule.period;
+      return rule.kind == KeepRule::kEveryTicks ? phase == 0 : phase < rule.length;
+    }
+    case KeepRule::kOnChange: {
+      // The content after fingerprint, utime and seq: a task re-sent unchanged is not kept.
+      const auto* bytes = static_cast<const uint8_t*>(data);
+      const size_t skip = size < 24 ? size : 24;
+      auto [last, first] = last_kept_.try_emplace(channel);
+      std::vector<uint8_t>& kept = last->second;
+      if (!first && kept.size() == size - skip &&
+          std::memcmp(kept.data(), bytes + skip, size - skip) == 0) {
+        return false;
+      }
+      kept.assign(bytes + skip, bytes + size);
+      return true;
+    }
+  }
+  return true;
+}
+
+}  // namespace dmpl

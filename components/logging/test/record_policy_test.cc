@@ -1,0 +1,73 @@
+#include "components/logging/record_policy.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include "components/runtime/channels.h"
+
+namespace dmpl {
+namespace {
+
+// A dmpl-like message: fingerprint, utime, seq (big-endian), then a payload byte.
+std::vector<uint8_t> Message(int64_t seq, uint8_t payload = 0) {
+  std::vector<uint8_t> m(25, 0);
+  for (int i = 0; i < 8; ++i) m[16 + i] = static_cast<uint8_t>(seq >> (56 - 8 * i));
+  m[8] = static_cast<uint8_t>(seq);  // utime changes with the tick too
+  m[24] = payload;
+  return m;
+}
+
+int Kept(RecordFilter* f, const char* channel, int64_t from, int64_t to) {
+  int kept = 0;
+  for (int64_t s = from; s < to; ++s) {
+    const auto m = Message(s);
+    kept += f->Keep(channel, m.data(), m.size());
+  }
+  return kept;
+}
+
+TEST(RecordPolicyTest, ParsesTheThreeNamesAndRejectsOthers) {
+  EXPECT_EQ(ParseRecordPolicy("full"), RecordPolicy::kFull);
+  EXPECT_EQ(ParseRecordPolicy("analysis"), RecordPolicy::kAnalysis);
+  EXPECT_EQ(ParseRecordPolicy("none"), RecordPolicy::kNone);
+  EXPECT_THROW(ParseRecordPolicy("Full"), std::invalid_argument);
+}
+
+TEST(RecordPolicyTest, SeqIsReadFromTheMessageBytes) {
+  const auto m = Message(123456789);
+  EXPECT_EQ(SeqOfMessage(m.data(), m.size()), 123456789);
+  EXPECT_EQ(SeqOfMessage(m.data(), 23), -1);
+}
+
+TEST(RecordPolicyTest, FullKeepsEverythingAndNoneNothing) {
+  RecordFilter full(RecordPolicy::kFull), none(RecordPolicy::kNone);
+  EXPECT_EQ(Kept(&full, channels::kJointCmd, 0, 1000), 1000);
+  EXPECT_EQ(Kept(&none, channels::kSimControl, 0, 1000), 0);
+}
+
+TEST(RecordPolicyTest, AnalysisThinsTheTickChannelsByTheirRates) {
+  RecordFilter f(RecordPolicy::kAnalysis);
+  EXPECT_EQ(Kept(&f, channels::kSensorsTrue, 0, 2000), 200);     // 100 Hz
+  EXPECT_EQ(Kept(&f, channels::kSensors, 0, 2000), 100);         // 50 Hz
+  EXPECT_EQ(Kept(&f, channels::kControllerStatus, 0, 2000), 200);  // 2 bursts of 100 ticks
+  EXPECT_EQ(Kept(&f, channels::kControllerStatus, 950, 1050), 50);  // consecutive from 1000
+  EXPECT_EQ(Kept(&f, channels::kControllerReport, 0, 200), 200);
+  EXPECT_EQ(Kept(&f, channels::kJointCmd, 0, 100), 0);
+  EXPECT_EQ(Kept(&f, channels::kFingerTargets, 0, 100), 0);
+  EXPECT_EQ(Kept(&f, "SOMEONE_ELSES_CHANNEL", 0, 100), 100);
+}
+
+TEST(RecordPolicyTest, AnalysisKeepsATaskOnlyWhenItChanges) {
+  RecordFilter f(RecordPolicy::kAnalysis);
+  int kept = 0;
+  for (int64_t s = 0; s < 100; ++s) {
+    const auto m = Message(s, static_cast<uint8_t>(s / 30));  // a new task every 30 ticks
+    kept += f.Keep(channels::kTask, m.data(), m.size());
+  }
+  EXPECT_EQ(kept, 4);
+}
+
+}  // namespace
+}  // namespace dmpl
