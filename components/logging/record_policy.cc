@@ -1,9 +1,11 @@
 #include "components/logging/record_policy.h"
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 #include "components/runtime/channels.h"
+#include "dmpl/hand_sensors_t.hpp"
 
 namespace dmpl {
 namespace {
@@ -11,7 +13,7 @@ namespace {
 // The analysis policy, channel by channel (see record_policy.h for why each rate).
 KeepRule AnalysisRule(const std::string& channel) {
   using K = KeepRule;
-  if (channel == channels::kSensorsTrue) return {K::kEveryTicks, 10};
+  if (channel == channels::kSensorsTrue) return {K::kEveryTicksOrTouch, 10, 0, 0.25};
   if (channel == channels::kSensors) return {K::kEveryTicks, 20};
   if (channel == channels::kControllerStatus) return {K::kBursts, 1000, 100};
   if (channel == channels::kTask) return {K::kOnChange};
@@ -65,6 +67,11 @@ bool RecordFilter::Keep(const std::string& channel, const void* data, size_t siz
   switch (rule.kind) {
     case KeepRule::kAll: return true;
     case KeepRule::kNever: return false;
+    case KeepRule::kEveryTicksOrTouch: {
+      const int64_t seq = SeqOfMessage(data, size);
+      const bool changed = TouchChanged(channel, rule, data, size);  // always tracks the touch
+      return seq < 0 || seq % rule.period == 0 || changed;
+    }
     case KeepRule::kEveryTicks:
     case KeepRule::kBursts: {
       const int64_t seq = SeqOfMessage(data, size);
@@ -87,6 +94,24 @@ bool RecordFilter::Keep(const std::string& channel, const void* data, size_t siz
     }
   }
   return true;
+}
+
+// True when a fingertip touched, let go, or its force moved by force_jump_n since the last kept
+// message of the channel; remembers the touch of every message it keeps.
+bool RecordFilter::TouchChanged(const std::string& channel, const KeepRule& rule,
+                                const void* data, size_t size) {
+  hand_sensors_t m;
+  if (m.decode(data, 0, static_cast<int>(size)) < 0) return true;  // keep what tools cannot read
+  std::vector<double> touch;
+  for (const auto& f : m.tactile.fingers) touch.push_back(f.in_contact ? f.force_n : -1.0);
+  std::vector<double>& last = last_touch_[channel];
+  bool changed = last.size() != touch.size();
+  for (size_t i = 0; !changed && i < touch.size(); ++i) {
+    changed = (touch[i] < 0) != (last[i] < 0) || std::abs(touch[i] - last[i]) > rule.force_jump_n;
+  }
+  const bool due = SeqOfMessage(data, size) % rule.period == 0;
+  if (changed || due) last = touch;
+  return changed;
 }
 
 }  // namespace dmpl

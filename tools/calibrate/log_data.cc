@@ -1,9 +1,8 @@
 #include "tools/calibrate/log_data.h"
 
-#include <lcm/eventlog.h>
-
 #include <stdexcept>
 
+#include "components/logging/event_log_reader.h"
 #include "components/runtime/channels.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/hand_sensors_t.hpp"
@@ -26,17 +25,17 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
   LogData data;
   int64_t offset = 0;
   for (const std::string& path : paths) {
-    lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "r");
-    if (log == nullptr) throw std::runtime_error("cannot read log '" + path + "'");
+    EventLogReader log(path);  // skips garbage, stops at a torn last event
     data.sources.push_back(path);
     int64_t max_seq = -1;
-    for (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(log); e != nullptr;
-         e = lcm_eventlog_read_next_event(log)) {
+    LogEvent event;
+    while (log.Next(&event)) {
+      const LogEvent* e = &event;
       ++data.messages;
-      const std::string channel(e->channel, e->channellen);
+      const std::string channel(e->channel);
       if (channel == channels::kSensors || channel == channels::kSensorsTrue) {
         hand_sensors_t m;
-        if (m.decode(e->data, 0, e->datalen) >= 0) {
+        if (m.decode(e->data, 0, static_cast<int>(e->size)) >= 0) {
           Tick& tick = data.ticks[offset + m.seq];
           tick.t = m.utime * 1e-6;
           if (data.fingers.empty()) {
@@ -58,7 +57,7 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
         }
       } else if (channel == channels::kControllerStatus) {
         controller_status_t m;
-        if (m.decode(e->data, 0, e->datalen) >= 0) {
+        if (m.decode(e->data, 0, static_cast<int>(e->size)) >= 0) {
           Tick& tick = data.ticks[offset + m.seq];
           tick.control.clear();
           for (const auto& f : m.fingers) {
@@ -78,9 +77,7 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
           tick.has_control = true;
         }
       }
-      lcm_eventlog_free_event(e);
     }
-    lcm_eventlog_destroy(log);
     offset += max_seq + 1000;
   }
   return data;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "components/runtime/channels.h"
+#include "dmpl/hand_sensors_t.hpp"
 
 namespace dmpl {
 namespace {
@@ -17,6 +18,21 @@ std::vector<uint8_t> Message(int64_t seq, uint8_t payload = 0) {
   m[8] = static_cast<uint8_t>(seq);  // utime changes with the tick too
   m[24] = payload;
   return m;
+}
+
+// A tick's sensors with one fingertip at `force` (no contact when negative).
+std::vector<uint8_t> Sensors(int64_t seq, double force) {
+  hand_sensors_t m{};
+  m.utime = seq * 1000;
+  m.seq = seq;
+  m.tactile.num_fingers = 1;
+  m.tactile.fingers.resize(1);
+  m.tactile.fingers[0].finger = "T";
+  m.tactile.fingers[0].in_contact = force >= 0;
+  m.tactile.fingers[0].force_n = force < 0 ? 0.0 : force;
+  std::vector<uint8_t> out(m.getEncodedSize());
+  m.encode(out.data(), 0, static_cast<int>(out.size()));
+  return out;
 }
 
 int Kept(RecordFilter* f, const char* channel, int64_t from, int64_t to) {
@@ -49,7 +65,6 @@ TEST(RecordPolicyTest, FullKeepsEverythingAndNoneNothing) {
 
 TEST(RecordPolicyTest, AnalysisThinsTheTickChannelsByTheirRates) {
   RecordFilter f(RecordPolicy::kAnalysis);
-  EXPECT_EQ(Kept(&f, channels::kSensorsTrue, 0, 2000), 200);     // 100 Hz
   EXPECT_EQ(Kept(&f, channels::kSensors, 0, 2000), 100);         // 50 Hz
   EXPECT_EQ(Kept(&f, channels::kControllerStatus, 0, 2000), 200);  // 2 bursts of 100 ticks
   EXPECT_EQ(Kept(&f, channels::kControllerStatus, 950, 1050), 50);  // consecutive from 1000
@@ -57,6 +72,20 @@ TEST(RecordPolicyTest, AnalysisThinsTheTickChannelsByTheirRates) {
   EXPECT_EQ(Kept(&f, channels::kJointCmd, 0, 100), 0);
   EXPECT_EQ(Kept(&f, channels::kFingerTargets, 0, 100), 0);
   EXPECT_EQ(Kept(&f, "SOMEONE_ELSES_CHANNEL", 0, 100), 100);
+}
+
+TEST(RecordPolicyTest, AnalysisKeepsTheTruthAt100HzAndAtEveryTouchEvent) {
+  RecordFilter f(RecordPolicy::kAnalysis);
+  std::vector<int64_t> kept;
+  for (int64_t s = 0; s < 100; ++s) {
+    // A steady 0.8 N grip, a 3 N impact over ticks 33-35, contact lost over 61-64.
+    double force = 0.8 + 0.01 * static_cast<double>(s % 3);
+    if (s >= 33 && s <= 35) force = 3.0;
+    if (s >= 61 && s <= 64) force = -1.0;
+    const auto m = Sensors(s, force);
+    if (f.Keep(channels::kSensorsTrue, m.data(), m.size())) kept.push_back(s);
+  }
+  EXPECT_EQ(kept, (std::vector<int64_t>{0, 10, 20, 30, 33, 36, 40, 50, 60, 61, 65, 70, 80, 90}));
 }
 
 TEST(RecordPolicyTest, AnalysisKeepsATaskOnlyWhenItChanges) {

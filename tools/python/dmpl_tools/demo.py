@@ -11,6 +11,7 @@ import threading
 import time
 
 from .bus import Buses
+from .launch import RECORD_POLICIES
 from .paths import ROOT
 from .report import make_report
 from .run import cpu_list, loop_layout, print_headline, run_experiment
@@ -62,6 +63,8 @@ def main(argv=None):
     ap.add_argument("--seed", type=int)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--config", default=str(ROOT / "configs/experiments/demo.yaml"))
+    ap.add_argument("--record", choices=RECORD_POLICIES,
+                    help="what the log keeps (default: the demo's, analysis)")
     ap.add_argument("--cpus", type=cpu_list, metavar="LIST",
                     help="the CPUs of the loop; '' lets the scheduler place it (default: with "
                     "two CPUs or more the simulator on the first, the nodes on the last)")
@@ -70,11 +73,14 @@ def main(argv=None):
     print(f"[demo] {args.config}: the sphere turned by finger gaiting; out: {args.out}",
           file=sys.stderr)
     summary, out = run_experiment(args.config, args.out, seed=args.seed, sets=args.set,
-                                  echo=False, progress=Progress(), cpus=cpus, pins=pins)
-    report = make_report(out / "run.lcmlog", out / "report")
+                                  echo=False, progress=Progress(), cpus=cpus, pins=pins,
+                                  record=args.record)
+    log = out / "run.lcmlog"
     print_headline(summary, out)
-    print(f"\nreport: {report}")
-    print(f"log:    {out / 'run.lcmlog'} (tools/dmpl replay it for tools/dmpl spy)")
+    if log.exists():
+        print(f"\nreport: {make_report(log, out / 'report')}")
+        print(f"log:    {log} ({summary.get('record_policy')}; tools/dmpl replay it for "
+              "tools/dmpl spy)")
     return 0 if summary["status"] == "success" else 1
 
 

@@ -5,6 +5,7 @@ A set file:
     name: noise_demo
     lcm_url: udpm://239.255.76.67:7667?ttl=0   # optional; else $LCM_DEFAULT_URL, else the default
     record: true                                # dmpl_record -> RUN_DIR/run.lcmlog
+    record_policy: full                         # full | analysis | none (record_policy.h)
     processes:
       - name: noise
         exec: dmpl_noise                        # build/bin first, then PATH
@@ -75,7 +76,8 @@ PROCESS_KEYS = {
     "stop_time_allowed": (int, float), "exit_ends_set": bool, "required": bool, "cpus": list,
 }
 SET_KEYS = {
-    "name": str, "lcm_url": str, "record": bool, "record_channels": str, "processes": list,
+    "name": str, "lcm_url": str, "record": bool, "record_channels": str, "record_policy": str,
+    "processes": list,
     "heartbeat_timeout_s": (int, float), "status_period_s": (int, float), "cpus": list,
 }
 
@@ -100,6 +102,9 @@ class ProcessSpec:
     cpus: list = field(default_factory=list)  # resolved CPU ids; empty: no affinity
 
 
+RECORD_POLICIES = ("full", "analysis", "none")  # components/logging/record_policy.h
+
+
 @dataclass
 class ProcessSet:
     name: str
@@ -107,6 +112,7 @@ class ProcessSet:
     lcm_url: str = ""
     record: bool = True
     record_channels: str = ".*"
+    record_policy: str = "full"
     heartbeat_timeout_s: float = 10.0
     status_period_s: float = 0.5
     cpus: list = field(default_factory=list)
@@ -196,6 +202,9 @@ def parse_set(data, source, variables):
         re.compile(pset.record_channels)
     except re.error as e:
         raise SetError(f"{source}: record_channels is not a valid regex: {e}") from None
+    if pset.record_policy not in RECORD_POLICIES:
+        raise SetError(f"{source}: record_policy '{pset.record_policy}': expected one of "
+                       f"{', '.join(RECORD_POLICIES)}")
     return pset
 
 
@@ -234,13 +243,21 @@ class _Proc:
 class Launcher:
     """Runs a ProcessSet until it ends, a stop is requested, or a duration passes."""
 
-    def __init__(self, pset, run_dir, lcm_url=None, record=None, echo=True, single_bus=False):
+    def __init__(self, pset, run_dir, lcm_url=None, record=None, echo=True, single_bus=False,
+                 record_policy=None, columns=None):
+        """record: run the recorder (default: the set's `record`); record_policy: what its log
+        keeps (default: the set's); columns: (DIR, FIELDS_REGEX) to extract online."""
         self.pset = pset
         self.run_dir = Path(run_dir)
         self.run_dir.mkdir(parents=True, exist_ok=True)
         self.url = with_receive_buffer(
             lcm_url or pset.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
         self.record = pset.record if record is None else record
+        self.record_policy = record_policy or pset.record_policy
+        if self.record_policy not in RECORD_POLICIES:
+            raise SetError(f"record policy '{self.record_policy}': expected one of "
+                           f"{', '.join(RECORD_POLICIES)}")
+        self.columns = columns
         self.echo = echo
         self.single_bus = single_bus
         self.procs = [_Proc(s, self.run_dir) for s in sorted(
@@ -373,17 +390,22 @@ class Launcher:
         if not self.record:
             return
         log_path = self.run_dir / "run.lcmlog"
+        args = ["--lcm-url", self.url, "--channels", self.pset.record_channels,
+                "--policy", self.record_policy, *(["--single-bus"] if self.single_bus else [])]
+        if self.columns:
+            args += ["--columns", str(self.columns[0]), "--fields", self.columns[1]]
+        if self.record_policy != "none":
+            args.append(str(log_path))
         # Off the loop's CPUs when the set is pinned: it reads every message of every tick.
         others = self._other_cpus()
-        spec = ProcessSpec(name="recorder", exec=executable("dmpl_record"),
-                           args=["--lcm-url", self.url, "--channels", self.pset.record_channels,
-                                 *(["--single-bus"] if self.single_bus else []), str(log_path)],
+        spec = ProcessSpec(name="recorder", exec=executable("dmpl_record"), args=args,
                            required=True, stop_signal="SIGINT", stop_time_allowed=10.0,
                            cpus=others)
         self.logger = _Proc(spec, self.run_dir)
         self.start(self.logger)
         self.logger.state = "running"
-        self.say(f"recording LCM traffic to {log_path}")
+        self.say(f"recording LCM traffic to {log_path} (policy {self.record_policy})"
+                 if self.record_policy != "none" else "recording no log (policy none)")
         time.sleep(0.2)  # let the logger subscribe before the first message
 
     # --- the loop ------------------------------------------------------------------------------
@@ -582,7 +604,9 @@ def main(argv=None):
     ap.add_argument("--lcm-url", help="LCM URL for every process (default: the set's, "
                     "$LCM_DEFAULT_URL, or the dmpl default)")
     ap.add_argument("--duration", type=float, help="stop after this many seconds")
-    ap.add_argument("--no-record", action="store_true", help="do not run lcm-logger")
+    ap.add_argument("--no-record", action="store_true", help="do not run the recorder")
+    ap.add_argument("--record", choices=RECORD_POLICIES,
+                    help="what the log keeps (default: the set's record_policy, else full)")
     ap.add_argument("--var", action="append", default=[], metavar="KEY=VALUE",
                     help="a ${KEY} for the set file")
     args = ap.parse_args(argv)
@@ -600,8 +624,12 @@ def main(argv=None):
     except SetError as e:
         print(f"dmpl launch: error: {e}", file=sys.stderr)
         return 2
-    launcher = Launcher(pset, run_dir, lcm_url=args.lcm_url,
-                        record=False if args.no_record else None)
+    try:
+        launcher = Launcher(pset, run_dir, lcm_url=args.lcm_url,
+                            record=False if args.no_record else None, record_policy=args.record)
+    except SetError as e:
+        print(f"dmpl launch: error: {e}", file=sys.stderr)
+        return 2
     launcher.say(f"set '{pset.name}' with {len(pset.processes)} processes, run dir {run_dir}, "
                  f"LCM {launcher.url}")
     return launcher.run(duration=args.duration)

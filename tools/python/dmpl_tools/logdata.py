@@ -1,13 +1,28 @@
-"""Reads a dmpl LCM log into numpy arrays, one table per channel we care about."""
-import gc
-from dataclasses import dataclass, field
+"""A run's data as numpy arrays, from column files (components/logging/log_columns.h).
 
-import lcm
+Columns come from two places, written by the same C++ code: the recorder extracts them online
+from every message of a run (whatever its record policy keeps in the log), and `dmpl_logcols`
+extracts them from any recorded log in one pass. Either way only the channels and fields a tool
+asks for are decoded, into arrays, never message by message into Python objects; messages that
+cannot be decoded, garbage between events and a truncated last event are counted (`problems`),
+never fatal.
+"""
+import json
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
 import numpy as np
 
 from . import channels
+from .paths import executable
 
 ROLE_NAMES = {0: "free", 1: "grip", 2: "explore"}
+
+
+class LogError(Exception):
+    """A log or a column directory that cannot be read at all."""
 
 
 @dataclass
@@ -23,101 +38,174 @@ class Series:
         return len(self.t)
 
 
-def _matrix(rows, dtype=float):
-    """A 2-D array of rows (each a list); (0, 0) when there are none."""
-    return np.array(rows, dtype=dtype) if rows else np.zeros((0, 0), dtype=dtype)
+def fields_regex(fields):
+    """{channel: [field, ...] or None (every field)} -> the regex dmpl_logcols --fields takes."""
+    parts = []
+    for channel, names in fields.items():
+        parts.append(f"{channel}/.*" if names is None else f"{channel}/({'|'.join(names)})")
+    return "^(" + "|".join(parts) + ")$"
+
+
+def extract(log_path, out_dir, fields=None, channels_regex=".*"):
+    """Runs dmpl_logcols over a log: one pass, the columns of `fields` (see fields_regex) into
+    out_dir. Returns the meta. Raises LogError when the log cannot be read."""
+    cmd = [executable("dmpl_logcols"), str(log_path), str(out_dir), "--channels", channels_regex]
+    if fields is not None:
+        cmd += ["--fields", fields_regex(fields)]
+    done = subprocess.run(cmd, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        raise LogError(done.stderr.strip() or f"dmpl_logcols failed on {log_path}")
+    return json.loads((Path(out_dir) / "meta.json").read_text())
+
+
+class Columns:
+    """The tables of a column directory: `table(channel)` -> {field: array}."""
+
+    def __init__(self, path):
+        self.path = Path(path)
+        try:
+            self.meta = json.loads((self.path / "meta.json").read_text())
+        except (OSError, ValueError) as e:
+            raise LogError(f"{self.path}: no readable meta.json ({e})") from None
+        self.channels = self.meta.get("channels", {})
+
+    def rows(self, channel):
+        return self.channels.get(channel, {}).get("rows", 0)
+
+    def table(self, channel, sub=""):
+        info = self.channels.get(channel)
+        folder = self.path / channel / sub if sub else self.path / channel
+        if not info or not folder.is_dir():
+            return {}
+        out = {f.stem: np.load(f) for f in sorted(folder.glob("*.npy"))}
+        strings = info.get("event_strings" if sub else "strings", {})
+        for name, table in strings.items():
+            if name in out:
+                names = np.array(table, dtype=object)
+                out[name] = names[out[name]] if len(names) else out[name].astype(object)
+        return out
+
+    def problems(self):
+        """What could not be read, one line each."""
+        out = []
+        for channel, info in self.channels.items():
+            for reason, n in info.get("rejected_by_reason", {}).items():
+                out.append(f"{channel}: {n} messages skipped ({reason})")
+        source = self.meta.get("source", {})
+        if source.get("skipped_bytes"):
+            out.append(f"log: {source['skipped_bytes']} bytes that were not events skipped at "
+                       f"{source['resyncs']} places")
+        if source.get("truncated"):
+            out.append("log: the last event is truncated")
+        return out
+
+
+def _t(table):
+    return table["utime"] * 1e-6 if "utime" in table else np.zeros(0)
+
+
+def _get(table, key, shape_tail=(), dtype=float):
+    """A column, or an empty array of the right shape when the table lacks it."""
+    if key in table:
+        return table[key]
+    n = len(table.get("utime", ()))
+    return np.zeros((n, *shape_tail), dtype=dtype)
 
 
 class LogData:
-    """The decoded content of a run's log."""
+    """The data of a run that metrics, the report and the viewer read."""
 
-    def __init__(self, path):
-        # Decoding makes millions of small objects and no cycles: the cyclic collector would
-        # walk them again and again (a 120 s run decodes in 25 s without it, 46 s with it).
-        was_enabled = gc.isenabled()
-        gc.disable()
-        try:
-            self._read(path)
-        finally:
-            if was_enabled:
-                gc.enable()
-
-    def _read(self, path):
-        from dmpl import (controller_status_t, hand_sensors_t, sim_control_t, sim_status_t,
-                          supervisor_status_t, task_cmd_t)
-        decoders = {
-            channels.SENSORS_TRUE: hand_sensors_t, channels.SENSORS: hand_sensors_t,
-            channels.SIM_CONTROL: sim_control_t,
-            channels.SIM_STATUS: sim_status_t, channels.SUPERVISOR_STATUS: supervisor_status_t,
-            channels.CONTROLLER_STATUS: controller_status_t, channels.TASK: task_cmd_t,
-        }
-        raw = {c: [] for c in decoders}
-        self.wall_first = self.wall_last = None
-        log = lcm.EventLog(str(path), "r")
-        for event in log:
-            if self.wall_first is None:
-                self.wall_first = event.timestamp
-            self.wall_last = event.timestamp
-            decoder = decoders.get(event.channel)
-            if decoder is None:
-                continue
-            try:
-                raw[event.channel].append(decoder.decode(event.data))
-            except ValueError:
-                continue
-        log.close()
-        self.raw = raw
-        self.fingers = []
-        truth = [m.object for m in raw[channels.SENSORS_TRUE]]
-        self.seq_to_t = {m.seq: m.utime * 1e-6 for m in truth}
+    def __init__(self, columns):
+        self.columns = columns
+        self.problems = columns.problems()
+        truth = columns.table(channels.SENSORS_TRUE)
+        sensed = columns.table(channels.SENSORS)
+        meta_truth = columns.channels.get(channels.SENSORS_TRUE, {})
+        self.fingers = list(meta_truth.get("fingers", []))
+        self.truth_seq = truth.get("seq", np.zeros(0, dtype=np.int64))
         self.object = self._poses(truth)
-        self.object_sensed = self._poses([m.object for m in raw[channels.SENSORS]])
-        tact = [m.tactile for m in raw[channels.SENSORS_TRUE]]
-        if tact:
-            self.fingers = [f.finger for f in tact[0].fingers]
-        self.tactile = Series(
-            np.array([m.utime * 1e-6 for m in tact]),
-            {"force": _matrix([[f.force_n for f in m.fingers] for m in tact]),
-             "in_contact": _matrix([[f.in_contact for f in m.fingers] for m in tact], bool)})
-        self.sim_status = raw[channels.SIM_STATUS]
-        self.controls = [(m.seq, m.command, m.reason) for m in raw[channels.SIM_CONTROL]]
-        sup = raw[channels.SUPERVISOR_STATUS]
-        self.supervisor = Series(
-            np.array([m.utime * 1e-6 for m in sup]),
-            {"grasp_state": [m.grasp_state for m in sup],
-             "regrasp_state": [m.regrasp_state for m in sup],
-             "roles": _matrix([list(m.role) for m in sup], int),
-             "finger": [list(m.finger) for m in sup],
-             "rotation_commanded": np.array([m.rotation_commanded_rad for m in sup]),
-             "regrasps": np.array([m.regrasps for m in sup]),
-             "finished": np.array([m.finished for m in sup], dtype=bool),
-             "failed": np.array([m.failed for m in sup], dtype=bool),
-             "last": sup[-1] if sup else None})
-        ctl = raw[channels.CONTROLLER_STATUS]
-        self.controller = Series(
-            np.array([m.utime * 1e-6 for m in ctl]),
-            {"desired_force": _matrix([[f.desired_force_n for f in m.fingers] for m in ctl]),
-             "role": _matrix([[f.role for f in m.fingers] for m in ctl], int),
-             "events": [(m.utime * 1e-6, e.type, e.finger, e.text) for m in ctl for e in m.events]})
-        tasks = raw[channels.TASK]
-        self.tasks = Series(
-            np.array([m.utime * 1e-6 for m in tasks]),
-            {"has_target": np.array([m.has_object_target for m in tasks], dtype=bool),
-             "orientation": np.array([list(m.object_orientation) for m in tasks]).reshape(-1, 4)})
+        self.object_sensed = self._poses(sensed)
+        nf = len(self.fingers)
+        self.tactile = Series(_t(truth), {
+            "force": _get(truth, "tactile_force", (nf,)),
+            "in_contact": _get(truth, "tactile_in_contact", (nf,), bool)})
+        self._read_sim(columns)
+        self._read_supervisor(columns)
+        self._read_controller(columns)
+        task = columns.table(channels.TASK)
+        self.tasks = Series(_t(task), {
+            "has_target": _get(task, "has_object_target", (), bool),
+            "orientation": _get(task, "object_orientation", (4,))})
+
+    @classmethod
+    def from_log(cls, log_path, fields=None):
+        """Extracts the columns of a log into a temporary directory and loads them."""
+        if not Path(log_path).is_file():
+            raise LogError(f"no such log '{log_path}'")
+        with tempfile.TemporaryDirectory(prefix="dmpl-cols-") as tmp:
+            extract(log_path, tmp, fields)
+            return cls(Columns(tmp))
 
     @staticmethod
-    def _poses(msgs):
-        return Series(np.array([m.utime * 1e-6 for m in msgs]),
-                      {"position": np.array([list(m.position) for m in msgs]).reshape(-1, 3),
-                       "orientation": np.array([list(m.orientation) for m in msgs]).reshape(-1, 4),
-                       "valid": np.array([m.valid for m in msgs], dtype=bool)})
+    def _poses(table):
+        return Series(_t(table), {"position": _get(table, "object_position", (3,)),
+                                  "orientation": _get(table, "object_orientation", (4,)),
+                                  "valid": _get(table, "object_valid", (), bool)})
+
+    def _read_sim(self, columns):
+        control = columns.table(channels.SIM_CONTROL)
+        self.controls = list(zip(control.get("seq", []), control.get("command", []),
+                                 control.get("reason", [])))
+        status = columns.table(channels.SIM_STATUS)
+        self.sim_status = None
+        if len(status.get("seq", ())):
+            self.sim_status = {k: v[-1] for k, v in status.items()}
+
+    def _read_supervisor(self, columns):
+        sup = columns.table(channels.SUPERVISOR_STATUS)
+        self.supervisor_fingers = list(
+            columns.channels.get(channels.SUPERVISOR_STATUS, {}).get("fingers", []))
+        n = len(sup.get("utime", ()))
+        self.supervisor = Series(_t(sup), {
+            "grasp_state": list(sup.get("grasp_state", [])),
+            "regrasp_state": list(sup.get("regrasp_state", [])),
+            "roles": _get(sup, "role", (len(self.supervisor_fingers),), int).astype(int),
+            "rotation_commanded": _get(sup, "rotation_commanded_rad"),
+            "rotation_goal": _get(sup, "rotation_goal_rad"),
+            "regrasps": _get(sup, "regrasps", (), int),
+            "finished": _get(sup, "finished", (), bool),
+            "failed": _get(sup, "failed", (), bool)})
+        self.supervisor_last = {k: v[-1] for k, v in sup.items()} if n else None
+
+    def _read_controller(self, columns):
+        # The per-tick status when it was kept at every tick; else the 100 Hz report (the
+        # analysis policy keeps the status in bursts only), which carries every event too.
+        status, report = channels.CONTROLLER_STATUS, channels.CONTROLLER_REPORT
+        use = status if columns.rows(status) >= 5 * columns.rows(report) else report
+        ctl = columns.table(use)
+        nf = len(columns.channels.get(use, {}).get("fingers", []))
+        events = columns.table(use, "events")
+        self.controller_channel = use
+        self.controller = Series(_t(ctl), {
+            "desired_force": _get(ctl, "desired_force", (nf,)),
+            "role": _get(ctl, "role", (nf,), int).astype(int),
+            "events": list(zip(_t(events), events.get("type", []), events.get("finger", []),
+                               events.get("text", [])))})
+
+    def truth_tick_step(self):
+        """The usual seq step between truth rows (1 at every tick, 10 in an analysis log)."""
+        if len(self.truth_seq) < 2:
+            return 1
+        return max(int(np.median(np.diff(self.truth_seq))), 1)
 
     def time_of_seq(self, seq):
-        if seq in self.seq_to_t:
-            return self.seq_to_t[seq]
-        if not self.seq_to_t:
+        """The time of the truth row of `seq`, or of the nearest one."""
+        if not len(self.truth_seq):
             return 0.0
-        return self.seq_to_t[min(self.seq_to_t, key=lambda s: abs(s - seq))]
+        i = int(np.searchsorted(self.truth_seq, seq))
+        candidates = [j for j in (i - 1, i) if 0 <= j < len(self.truth_seq)]
+        j = min(candidates, key=lambda k: (abs(int(self.truth_seq[k]) - seq), k))
+        return float(self.object.t[j])
 
 
 # --- quaternion helpers (w, x, y, z) ----------------------------------------------------------

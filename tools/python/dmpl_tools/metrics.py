@@ -1,4 +1,9 @@
-"""Metrics of a run, from the truth channels of its log (never from the controller's belief).
+"""Metrics of a run, from its truth channels (never from the controller's belief).
+
+They read columns (logdata.py): the ones the recorder extracted online from every message of the
+run, whatever the log keeps (COLUMNS below are all they need), or those of a recorded log. From an
+analysis log (truth at 100 Hz) they approximate these definitions; the run's own summary.json
+holds the exact values.
 
 Definitions (DESIGN.md section 6; the run's config section `metrics` sets the thresholds):
 - release: the first SIM_CONTROL RELEASE (t = 0 if the object was never held).
@@ -22,11 +27,22 @@ Definitions (DESIGN.md section 6; the run's config section `metrics` sets the th
 """
 import numpy as np
 
+from . import channels
 from .logdata import AXES, angle_between, cumulative_rotation
-from dmpl import sim_control_t
 
 ROLE_GRIP = 1
 ROLE_EXPLORE = 2
+SIM_RELEASE = 1  # sim_control_t.RELEASE
+
+# The fields the metrics read, per channel (None: every field); the recorder extracts these.
+COLUMNS = {
+    channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
+                            "tactile_force", "tactile_in_contact"],
+    channels.CONTROLLER_STATUS: ["utime", "seq", "role", "desired_force"],
+    channels.CONTROLLER_REPORT: ["utime", "seq", "role", "desired_force"],
+    channels.SUPERVISOR_STATUS: None, channels.TASK: None, channels.SIM_STATUS: None,
+    channels.SIM_CONTROL: None,
+}
 
 
 def compute(data, config):
@@ -36,9 +52,10 @@ def compute(data, config):
     if len(obj) == 0:
         return {"error": "the log has no object truth (DMPL_SENSORS_TRUE)"}
     t = obj.t
-    seqs = sorted(data.seq_to_t)
-    summary["log_missing_ticks"] = int(seqs[-1] - seqs[0] + 1 - len(seqs))
-    releases = [seq for seq, cmd, _ in data.controls if cmd == sim_control_t.RELEASE]
+    seqs = np.unique(data.truth_seq)
+    step = data.truth_tick_step()
+    summary["log_missing_ticks"] = int((seqs[-1] - seqs[0]) // step + 1 - len(seqs))
+    releases = [seq for seq, cmd, _ in data.controls if cmd == SIM_RELEASE]
     held_at_start = config.get("object", {}).get("held", True)
     t_release = data.time_of_seq(releases[0]) if releases else (None if held_at_start else t[0])
     summary["sim_time_s"] = float(t[-1])
@@ -104,11 +121,11 @@ def compute(data, config):
     else:
         summary["regrasps"] = 0
     if data.sim_status:
-        last = data.sim_status[-1]
-        summary["lockstep_faults"] = int(last.faults)
-        summary["rejected_commands"] = int(last.rejected_commands)
-        if last.last_fault:
-            summary["last_fault"] = last.last_fault
+        last = data.sim_status
+        summary["lockstep_faults"] = int(last["faults"])
+        summary["rejected_commands"] = int(last["rejected_commands"])
+        if last["last_fault"]:
+            summary["last_fault"] = str(last["last_fault"])
     return summary
 
 
@@ -137,7 +154,8 @@ def _roles_at(data, times):
     if not len(sup):
         return np.full((len(times), nf), ROLE_GRIP)
     idx = np.clip(np.searchsorted(sup.t, times, side="right") - 1, 0, len(sup) - 1)
-    order = [sup["finger"][0].index(f) if f in sup["finger"][0] else None for f in data.fingers]
+    names = data.supervisor_fingers
+    order = [names.index(f) if f in names else None for f in data.fingers]
     roles = np.full((len(times), nf), ROLE_GRIP)
     for k, j in enumerate(order):
         if j is not None:

@@ -1,16 +1,22 @@
-"""tools/dmpl run CONFIG: one experiment -> DIR/summary.json and DIR/run.lcmlog (DESIGN.md §6)."""
+"""tools/dmpl run CONFIG: one experiment -> DIR/summary.json and DIR/run.lcmlog.
+
+--record full|analysis|none (default: the config's run.record, else full) says what the log
+keeps (components/logging/record_policy.h); the metrics never depend on it: the recorder extracts
+the columns they read from every message while the run goes.
+"""
 import argparse
 import json
-import multiprocessing
+import math
 import os
+import shutil
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
+import traceback
 from pathlib import Path
 
 from . import experiment, metrics
-from .launch import Launcher, SetError, parse_set
-from .logdata import LogData
+from .launch import RECORD_POLICIES, Launcher, SetError, parse_set
+from .logdata import Columns, LogData, LogError, extract, fields_regex
 from .paths import BUILD, ROOT
 
 
@@ -25,15 +31,18 @@ def loop_layout():
 
 
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
-                   echo=True, progress=None, one_process=False, record=True, cpus=None,
+                   echo=True, progress=None, one_process=False, record=None, cpus=None,
                    pins=None):
     """Runs one experiment and returns its summary (also written to OUT/summary.json).
 
+    record: what the log keeps, full | analysis | none (default: the config's run.record);
+    False runs no recorder at all, and so computes no metrics (benchmarks of the bare loop).
     one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results).
     cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
     the recorder then runs on the others.
     pins: {process name: CPUs} for single processes, over `cpus` and the config's own."""
     config = experiment.resolve(config_path, params, sets, seed)
+    policy = record_policy(config, record)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     out.mkdir(parents=True, exist_ok=True)
@@ -41,12 +50,21 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     experiment.write(config, resolved)
     experiment.check_processes(resolved, config)
     variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved)}
+    log_path, columns_dir = out / "run.lcmlog", out / "columns"
+    for stale in (log_path, out / "summary.json"):
+        if stale.exists():
+            stale.unlink()
+    shutil.rmtree(columns_dir, ignore_errors=True)
+    columns = (columns_dir, fields_regex(metrics.COLUMNS)) if record is not False else None
     if one_process:
         if not config.get("run", {}).get("lockstep", True):
             raise experiment.ExperimentError("one-process mode runs in lockstep only")
         args = ["--config", str(resolved)]
-        if record:
-            args += ["--record", str(out / "run.lcmlog")]
+        if columns:
+            args += ["--record-policy", policy, "--columns", str(columns[0]),
+                     "--columns-fields", columns[1]]
+            if policy != "none":
+                args += ["--record", str(log_path)]
         processes = [{"name": "dmpl_oneprocess", "exec": "dmpl_oneprocess", "args": args,
                       "exit_ends_set": True}]
         set_data = {"name": name, "processes": processes, "record": False}
@@ -56,8 +74,9 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         set_data["cpus"] = list(cpus)
     pset = parse_set(set_data, f"{config_path}: processes", variables)
     launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
-                        echo=echo, record=record and not one_process,
-                        single_bus=not config.get("run", {}).get("channel_buses", True))
+                        echo=echo, record=columns is not None and not one_process,
+                        single_bus=not config.get("run", {}).get("channel_buses", True),
+                        record_policy=policy, columns=columns)
     if progress:
         progress.attach(launcher)
     launcher.say(f"experiment '{name}' -> {out} (LCM {launcher.url})")
@@ -69,21 +88,20 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
 
     summary = {"status": "failed", "experiment": name, "seed": config.get("run", {}).get("seed", 1),
                "object_shape": config.get("object", {}).get("shape", "sphere"),
-               "object_mass_kg": config.get("object", {}).get("mass", 0.05)}
-    log_path = out / "run.lcmlog"
-    if not record:
-        summary["note"] = "not recorded: no metrics"
-    elif log_path.exists():
-        summary.update(compute_metrics(log_path, config))
+               "object_mass_kg": config.get("object", {}).get("mass", 0.05),
+               "record_policy": policy if columns else "not recorded"}
+    problems = []
+    if columns:
+        summary.update(_metrics_or_problems(columns_dir, log_path, config, problems))
+        shutil.rmtree(columns_dir, ignore_errors=True)
     else:
-        summary["error"] = "no log was recorded"
+        summary["note"] = "not recorded: no metrics"
     summary["wall_time_s"] = wall
-    sim_time = summary.get("sim_time_s", 0.0)
+    sim_time = summary.get("sim_time_s") or 0.0
     summary["realtime_factor"] = sim_time / wall if wall > 0 else 0.0
     summary["exit_code"] = code
     summary["mode"] = "one-process" if one_process else "multi-process"
     timed_out = launcher.ended_by is None and str(launcher.stop_requested).startswith("duration")
-    problems = []
     if timed_out:
         problems.append("wall-clock timeout")
     if code != 0:
@@ -94,21 +112,66 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         problems.append("supervisor failed")
     if "supervisor_finished" in summary and not summary["supervisor_finished"]:
         problems.append("supervisor did not finish its tasks")
-    if summary.get("log_missing_ticks", 0) > 0:
+    if (summary.get("log_missing_ticks") or 0) > 0:
         problems.append(f"the log misses {summary['log_missing_ticks']} ticks")
-    if "error" in summary and record:
+    if "error" in summary:
         problems.append(summary["error"])
+    summary = strict_json(summary, problems)  # numpy -> JSON's types; NaN -> null + a problem
     summary["status"] = "timeout" if timed_out else ("failed" if problems else "success")
     if problems:
         summary["problems"] = problems
-    summary = _plain(summary)  # numpy scalars -> JSON's types, for every caller
-    with open(out / "summary.json", "w") as f:
-        json.dump(summary, f, indent=2, sort_keys=True)
+    write_summary(out / "summary.json", summary)
     return summary, out
 
 
-def _metrics_of(log_path, config):
-    return _plain(metrics.compute(LogData(log_path), config))
+def record_policy(config, record):
+    """The run's record policy: `record` if given, else the config's run.record, else full."""
+    policy = record if isinstance(record, str) else config.get("run", {}).get("record", "full")
+    if policy not in RECORD_POLICIES:
+        where = "--record" if isinstance(record, str) else "run.record"
+        raise experiment.ExperimentError(f"{where}: unknown record policy '{policy}' (expected "
+                                         f"{', '.join(RECORD_POLICIES)})")
+    return policy
+
+
+def _metrics_or_problems(columns_dir, log_path, config, problems):
+    """The metrics from the columns the recorder extracted online; from the log when they are
+    missing (a recorder that died). Whatever goes wrong becomes a problem, never a traceback
+    that loses the summary."""
+    try:
+        if not (Path(columns_dir) / "meta.json").exists():
+            if not Path(log_path).exists():
+                return {"error": "the recorder wrote neither columns nor a log: no metrics"}
+            problems.append("the recorder wrote no columns: metrics from the log")
+            extract(log_path, columns_dir, metrics.COLUMNS)
+        data = LogData(Columns(columns_dir))
+        problems.extend(data.problems)
+        return metrics.compute(data, config)
+    except (LogError, OSError, ValueError, KeyError, IndexError) as e:
+        traceback.print_exc(file=sys.stderr)
+        return {"error": f"metrics could not be computed: {type(e).__name__}: {e}"}
+
+
+def strict_json(value, problems, key="summary"):
+    """numpy scalars and containers -> JSON's types; a number that is not finite -> None, with a
+    problem naming it (JSON has no NaN)."""
+    if isinstance(value, dict):
+        return {k: strict_json(v, problems, k) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [strict_json(v, problems, key) for v in value]
+    if hasattr(value, "item"):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        problems.append(f"{key} is {value}: written as null")
+        return None
+    return value
+
+
+def write_summary(path, summary):
+    """Writes summary.json atomically (a partial file never replaces a complete one)."""
+    tmp = Path(path).with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(summary, indent=2, sort_keys=True, allow_nan=False))
+    os.replace(tmp, path)
 
 
 def _pinned(processes, pins):
@@ -120,24 +183,6 @@ def _pinned(processes, pins):
                            f"{', '.join(map(str, names))})")
     return [dict(p, cpus=list(pins[p["name"]])) if p.get("name") in pins else p
             for p in processes]
-
-
-def compute_metrics(log_path, config):
-    """The run's metrics from its log, in a process of their own: decoding a long log is a minute
-    of pure Python, and a sweep's trials (threads) would otherwise take turns at the GIL."""
-    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn")) as pool:
-        return pool.submit(_metrics_of, log_path, config).result()
-
-
-def _plain(value):
-    """numpy scalars and containers -> JSON's types."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if hasattr(value, "item"):
-        return value.item()
-    return value
 
 
 HEADLINE = ["status", "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
@@ -188,6 +233,8 @@ def main(argv=None):
     add_common_args(ap)
     ap.add_argument("--out", help="output directory (default out/runs/NAME-TIME)")
     ap.add_argument("--quiet", action="store_true", help="keep process output in the log files only")
+    ap.add_argument("--record", choices=RECORD_POLICIES,
+                    help="what the log keeps (default: the config's run.record, else full)")
     ap.add_argument("--one-process", action="store_true",
                     help="run every node in one process on memq:// (lockstep; same results)")
     ap.add_argument("--cpus", type=cpu_list, metavar="LIST",
@@ -209,7 +256,8 @@ def main(argv=None):
     try:
         summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
                                       args.lcm_url, echo=not args.quiet,
-                                      one_process=args.one_process, cpus=cpus, pins=pins)
+                                      one_process=args.one_process, cpus=cpus, pins=pins,
+                                      record=args.record)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2
