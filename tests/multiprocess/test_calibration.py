@@ -58,6 +58,19 @@ class CalibrationTest(unittest.TestCase):
         self.assertLessEqual(tuned["grip_force_rms_error_n"],
                              default["grip_force_rms_error_n"] * 1.05)
 
+    def test_an_analysis_log_is_enough_for_the_sensors(self):
+        # The analysis policy keeps the truth at 100 Hz, the sensed channel at 50 Hz and the
+        # controller's per-tick status in bursts of 100 ticks every second: 15 s of gaiting
+        # (forces from 0.1 to 1 N) give the sensor fits and 10+ force-response windows.
+        _, run = run_experiment(EXP / "fig10_gait_sphere.yaml", tempfile.mkdtemp(), echo=False,
+                                one_process=True, record="analysis",
+                                sets=["sim.duration_s=15", "noise.force_scale=1.2"])
+        out = run / "calibration.yaml"
+        r = calibrate(run / "run.lcmlog", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        c = yaml.safe_load(out.read_text())["controller"]
+        self.assertLess(abs(c["tactile_force_scale"] - 1.2), 0.05 * 1.2)
+
     def test_a_steady_grip_is_no_excitation(self):
         # fig8 alone holds every force near 0.8 N: scale and bias cannot be told apart.
         _, run = run_experiment(EXP / "fig8_sphere.yaml", tempfile.mkdtemp(), echo=False,

@@ -378,7 +378,9 @@ FitResult FitForceResponse(const LogData& data, std::vector<FingerModel>* models
       throw DataError("force response of finger " + data.fingers[f] + ": " +
                       std::to_string(windows.size() * kWindow) +
                       " consecutive composite-grip samples on DMPL_CONTROLLER_STATUS; need " +
-                      std::to_string(10 * kWindow));
+                      std::to_string(10 * kWindow) +
+                      " (a log recorded with the analysis policy keeps 100 of every 1000 ticks "
+                      "of it: record a longer run, or with --record full)");
     }
     const double spread = Quantile(ds, 0.95) - Quantile(ds, 0.05);
     if (spread < 2e-4) {

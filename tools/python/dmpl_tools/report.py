@@ -237,7 +237,8 @@ def make_report(log_path, out_dir=None, summary=None, config=None):
     data = LogData.from_log(log_path, FIELDS)
     if summary is None:
         summary = metrics.compute(data, config)
-        summary.setdefault("problems", []).extend(data.problems)
+        if data.problems:
+            summary["warnings"] = data.problems
     axis = str(config.get("task", {}).get("axis", "x"))
     plot_orientation(data, axis if axis in AXES else "x", out / FIGURES[0][0])
     plot_position(data, out / FIGURES[1][0])
@@ -253,6 +254,8 @@ def make_report(log_path, out_dir=None, summary=None, config=None):
             lines.append(f"| {key} | {v:.4g} |" if isinstance(v, float) else f"| {key} | {v} |")
     for p in summary.get("problems", []):
         lines.append(f"| problem | {p} |")
+    for w in summary.get("warnings", []):
+        lines.append(f"| warning | {w} |")
     lines.append("")
     for file, caption in FIGURES:
         lines += [f"## {caption}", "", f"![{caption}]({file})", ""]

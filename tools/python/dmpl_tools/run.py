@@ -145,8 +145,10 @@ def _metrics_or_problems(columns_dir, log_path, config, problems):
             problems.append("the recorder wrote no columns: metrics from the log")
             extract(log_path, columns_dir, metrics.COLUMNS)
         data = LogData(Columns(columns_dir))
-        problems.extend(data.problems)
-        return metrics.compute(data, config)
+        out = metrics.compute(data, config)
+        if data.problems:  # messages that could not be read: the metrics stand without them
+            out["warnings"] = data.problems
+        return out
     except (LogError, OSError, ValueError, KeyError, IndexError) as e:
         traceback.print_exc(file=sys.stderr)
         return {"error": f"metrics could not be computed: {type(e).__name__}: {e}"}
@@ -199,6 +201,8 @@ def print_headline(summary, out, stream=sys.stdout):
                   file=stream)
     for p in summary.get("problems", []):
         print(f"  problem: {p}", file=stream)
+    for w in summary.get("warnings", []):
+        print(f"  warning: {w}", file=stream)
 
 
 def add_common_args(ap):

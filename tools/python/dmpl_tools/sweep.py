@@ -2,8 +2,10 @@
 
 N trials of one experiment with seeds 1..N (or --first-seed S..), J at a time. Each trial runs in
 one-process mode (no sockets shared, nothing to collide); --multiprocess runs the full process
-set instead, each trial on its own LCM port. Writes DIR/sweep.md (a table) and DIR/sweep.json
-(keys `trials`, `success_rate`, and one summary per trial), and each trial's run directory.
+set instead, each trial on its own LCM port. Writes DIR/sweep.md (a table), DIR/sweep.json
+(keys `trials`, `success_rate`, and one summary per trial), DIR/sweep.parquet (one row per trial,
+for pandas and polars) and each trial's run directory. Trials keep no log by default (--record
+none: their metrics are computed online); --record analysis or full keeps one per trial.
 """
 import argparse
 import json
@@ -17,9 +19,9 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from . import experiment
-from .launch import ACTIVE, SetError
+from .launch import ACTIVE, RECORD_POLICIES, SetError
 from .paths import ROOT
-from .run import add_common_args, run_experiment
+from .run import add_common_args, run_experiment, strict_json
 
 COLUMNS = [("seed", "seed", "{}"), ("status", "status", "{}"),
            ("rotation_total_rad", "rotation (rad)", "{:.3f}"),
@@ -60,12 +62,31 @@ def write_table(out, config_path, trials):
     (out / "sweep.md").write_text("\n".join(lines))
     doc = {"config": str(config_path), "trials": len(trials), "succeeded": len(ok),
            "success_rate": rate, "summaries": trials}
-    (out / "sweep.json").write_text(json.dumps(doc, indent=2, sort_keys=True))
+    (out / "sweep.json").write_text(json.dumps(strict_json(doc, []), indent=2, sort_keys=True,
+                                               allow_nan=False))
+    write_parquet(out / "sweep.parquet", trials)
     return rate
 
 
+def write_parquet(path, trials):
+    """One row per trial: every summary key a column (lists of problems joined by '; ')."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    keys = sorted({k for s in trials for k in s})
+    rows = [{k: "; ".join(map(str, v)) if isinstance(v, list) else v for k, v in s.items()}
+            for s in trials]
+    columns = {}
+    for k in keys:
+        values = [r.get(k) for r in rows]
+        try:
+            columns[k] = pa.array(values)
+        except (pa.ArrowInvalid, pa.ArrowTypeError):  # mixed types across trials: as text
+            columns[k] = pa.array([None if v is None else str(v) for v in values])
+    pq.write_table(pa.table(columns), path)
+
+
 def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=True,
-              first_seed=1, port_base=7900):
+              first_seed=1, port_base=7900, record="none"):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     lock = threading.Lock()
@@ -85,15 +106,16 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
         try:
             summary, _ = run_experiment(config_path, out / f"seed{seed}", seed=seed, sets=sets,
                                         params=params, lcm_url=url, echo=False,
-                                        one_process=one_process,
+                                        one_process=one_process, record=record,
                                         cpus=None if cpu is None else [cpu])
         finally:
             if cpu is not None:
                 cpus.put(cpu)
         with lock:
             done.append(seed)
+            rotation = summary.get("rotation_total_rad")
             print(f"[sweep] seed {seed}: {summary['status']}, rotation "
-                  f"{summary.get('rotation_total_rad', float('nan')):.3f} rad, "
+                  f"{'-' if rotation is None else f'{rotation:.3f}'} rad, "
                   f"{len(done)}/{seeds} done", file=sys.stderr, flush=True)
         return summary
 
@@ -119,6 +141,8 @@ def main(argv=None):
     ap.add_argument("--first-seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2, help="trials at a time (default 2)")
     ap.add_argument("--out", help="output directory (default out/sweeps/NAME-TIME)")
+    ap.add_argument("--record", choices=RECORD_POLICIES, default="none",
+                    help="what each trial's log keeps (default none: metrics are online)")
     ap.add_argument("--multiprocess", action="store_true",
                     help="full process sets on their own LCM ports instead of one-process mode")
     args = ap.parse_args(argv)
@@ -130,12 +154,12 @@ def main(argv=None):
     out = Path(args.out) if args.out else ROOT / "out" / "sweeps" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     try:
         trials, rate = run_sweep(args.config, args.seeds, args.jobs, out, args.set, args.params,
-                                 not args.multiprocess, args.first_seed)
+                                 not args.multiprocess, args.first_seed, record=args.record)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl sweep: error: {e}", file=sys.stderr)
         return 2
     print((out / "sweep.md").read_text())
-    print(f"sweep: {out / 'sweep.md'}, {out / 'sweep.json'}")
+    print(f"sweep: {out / 'sweep.md'}, {out / 'sweep.json'}, {out / 'sweep.parquet'}")
     return 0 if rate == 1.0 else 1
 
 
