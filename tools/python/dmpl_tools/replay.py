@@ -32,11 +32,16 @@ def seq_of(data):
 
 
 def read_events(path, pattern):
+    """The log's events on channels matching `pattern`, one at a time (a full log of a long run
+    does not fit in memory as Python objects)."""
     regex = re.compile(pattern)
     log = lcm.EventLog(str(path), "r")
-    events = [(e.timestamp, e.channel, e.data) for e in log if regex.match(e.channel)]
-    log.close()
-    return events
+    try:
+        for e in log:
+            if regex.match(e.channel):
+                yield e.timestamp, e.channel, e.data
+    finally:
+        log.close()
 
 
 def recorded(path, channel):
@@ -59,9 +64,11 @@ class Replayer:
         every one published so far) waits until the previous tick has been answered."""
         if answer:
             self.buses.subscribe(answer, self.on_answer)
-        t0_log, t0 = events[0][0], time.monotonic()
-        newest = None
+        t0_log, t0 = None, time.monotonic()
+        newest, played = None, 0
         for stamp, channel, data in events:
+            t0_log = stamp if t0_log is None else t0_log
+            played += 1
             s = seq_of(data)
             if answer and s is not None and newest is not None and s > newest:
                 self.wait_for(newest, answer, timeout)
@@ -75,7 +82,7 @@ class Replayer:
             self.buses.handle(0)
         if answer and newest is not None:
             self.wait_for(newest, answer, timeout)
-        return len(events)
+        return played
 
     def wait_for(self, tick, answer, timeout):
         deadline = time.monotonic() + timeout
@@ -100,21 +107,26 @@ def main(argv=None):
     import os
     url = args.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
     try:
-        events = read_events(args.log, args.channels)
+        re.compile(args.channels)
+        next(read_events(args.log, args.channels))
+    except re.error as e:
+        print(f"dmpl replay: --channels is not a valid regex: {e}", file=sys.stderr)
+        return 2
     except (OSError, IOError) as e:
         print(f"dmpl replay: cannot read '{args.log}': {e}", file=sys.stderr)
         return 2
-    if not events:
+    except StopIteration:
         print(f"dmpl replay: no events match '{args.channels}' in {args.log}", file=sys.stderr)
         return 2
     player = Replayer(url, separate=not args.single_bus)
-    print(f"dmpl replay: {len(events)} messages from {args.log} onto {url}", file=sys.stderr)
+    print(f"dmpl replay: {args.log} onto {url}", file=sys.stderr)
     while True:
         try:
-            player.play(events, args.speed, args.answer)
+            played = player.play(read_events(args.log, args.channels), args.speed, args.answer)
         except TimeoutError as e:
             print(f"dmpl replay: {e}", file=sys.stderr)
             return 1
+        print(f"dmpl replay: {played} messages played", file=sys.stderr)
         if not args.loop:
             break
     if args.answer and args.compare:
