@@ -20,10 +20,22 @@ namespace {
 
 template <typename T>
 const char* Descr();
-template <> const char* Descr<double>() { return "<f8"; }
-template <> const char* Descr<int64_t>() { return "<i8"; }
-template <> const char* Descr<int32_t>() { return "<i4"; }
-template <> const char* Descr<int8_t>() { return "|i1"; }
+template <>
+const char* Descr<double>() {
+  return "<f8";
+}
+template <>
+const char* Descr<int64_t>() {
+  return "<i8";
+}
+template <>
+const char* Descr<int32_t>() {
+  return "<i4";
+}
+template <>
+const char* Descr<int8_t>() {
+  return "|i1";
+}
 
 std::string JsonString(const std::string& s) {
   std::string out = "\"";
@@ -359,8 +371,8 @@ LogColumns::Channel* LogColumns::ChannelFor(std::string_view name) {
   if (it != known_.end()) return it->second.get();
   const std::string type = ColumnTypeOf(name);
   if (type.empty() || !std::regex_match(std::string(name), channels_)) return nullptr;
-  auto ch = std::make_unique<Channel>(type, dir_ + "/" + std::string(name), std::string(name),
-                                      &fields_);
+  auto ch =
+      std::make_unique<Channel>(type, dir_ + "/" + std::string(name), std::string(name), &fields_);
   return known_.emplace(std::string(name), std::move(ch)).first->second.get();
 }
 
@@ -417,13 +429,12 @@ void LogColumns::Finish(const std::string& extra) {
       rejected += n;
     }
     reasons += "}";
-    meta << (first ? "\n" : ",\n") << "    " << JsonString(name) << ": {\"type\": "
-         << JsonString(ch->type) << ", \"messages\": " << ch->messages
+    meta << (first ? "\n" : ",\n") << "    " << JsonString(name)
+         << ": {\"type\": " << JsonString(ch->type) << ", \"messages\": " << ch->messages
          << ", \"rows\": " << ch->table.rows() << ", \"rejected\": " << rejected
          << ", \"rejected_by_reason\": " << reasons << ", \"fingers\": " << JsonList(ch->fingers)
-         << ", \"joints\": " << JsonList(ch->joints)
-         << ", \"strings\": " << ch->table.StringsJson() << ", \"events\": "
-         << (ch->events ? std::to_string(ch->events->rows()) : "0")
+         << ", \"joints\": " << JsonList(ch->joints) << ", \"strings\": " << ch->table.StringsJson()
+         << ", \"events\": " << (ch->events ? std::to_string(ch->events->rows()) : "0")
          << ", \"event_strings\": " << (ch->events ? ch->events->StringsJson() : "{}") << "}";
     first = false;
   }

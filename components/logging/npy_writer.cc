@@ -43,7 +43,8 @@ std::string NpyColumn::Header() const {
   for (size_t d : row_shape_) shape += " " + std::to_string(d) + ",";
   if (!row_shape_.empty()) shape.pop_back();
   shape += ")";
-  std::string dict = "{'descr': '" + descr_ + "', 'fortran_order': False, 'shape': " + shape + ", }";
+  std::string dict =
+      "{'descr': '" + descr_ + "', 'fortran_order': False, 'shape': " + shape + ", }";
   const size_t prefix = 10;  // magic (6), version (2), header length (2)
   if (prefix + dict.size() + 1 > kHeaderBytes) throw std::logic_error("npy header too long");
   dict.append(kHeaderBytes - prefix - dict.size() - 1, ' ');

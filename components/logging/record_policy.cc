@@ -36,18 +36,24 @@ RecordPolicy ParseRecordPolicy(const std::string& name) {
 
 const char* RecordPolicyName(RecordPolicy policy) {
   switch (policy) {
-    case RecordPolicy::kFull: return "full";
-    case RecordPolicy::kAnalysis: return "analysis";
-    case RecordPolicy::kNone: return "none";
+    case RecordPolicy::kFull:
+      return "full";
+    case RecordPolicy::kAnalysis:
+      return "analysis";
+    case RecordPolicy::kNone:
+      return "none";
   }
   return "?";
 }
 
 KeepRule RuleFor(RecordPolicy policy, const std::string& channel) {
   switch (policy) {
-    case RecordPolicy::kFull: return {KeepRule::kAll};
-    case RecordPolicy::kAnalysis: return AnalysisRule(channel);
-    case RecordPolicy::kNone: return {KeepRule::kNever};
+    case RecordPolicy::kFull:
+      return {KeepRule::kAll};
+    case RecordPolicy::kAnalysis:
+      return AnalysisRule(channel);
+    case RecordPolicy::kNone:
+      return {KeepRule::kNever};
   }
   return {KeepRule::kAll};
 }
@@ -65,8 +71,10 @@ bool RecordFilter::Keep(const std::string& channel, const void* data, size_t siz
   if (it == rules_.end()) it = rules_.emplace(channel, RuleFor(policy_, channel)).first;
   const KeepRule& rule = it->second;
   switch (rule.kind) {
-    case KeepRule::kAll: return true;
-    case KeepRule::kNever: return false;
+    case KeepRule::kAll:
+      return true;
+    case KeepRule::kNever:
+      return false;
     case KeepRule::kEveryTicksOrTouch: {
       const int64_t seq = SeqOfMessage(data, size);
       const bool changed = TouchChanged(channel, rule, data, size);  // always tracks the touch
@@ -98,8 +106,8 @@ bool RecordFilter::Keep(const std::string& channel, const void* data, size_t siz
 
 // True when a fingertip touched, let go, or its force moved by force_jump_n since the last kept
 // message of the channel; remembers the touch of every message it keeps.
-bool RecordFilter::TouchChanged(const std::string& channel, const KeepRule& rule,
-                                const void* data, size_t size) {
+bool RecordFilter::TouchChanged(const std::string& channel, const KeepRule& rule, const void* data,
+                                size_t size) {
   hand_sensors_t m;
   if (m.decode(data, 0, static_cast<int>(size)) < 0) return true;  // keep what tools cannot read
   std::vector<double> touch;

@@ -3,10 +3,11 @@
 //   full      every message of every channel: what replaying a run to reproduce it needs.
 //   analysis  what metrics, the report, calibration and a viewer read, at the rates they read it:
 //             the truth at 100 Hz and at every tick where a fingertip touches, lets go or its
-//             force jumps (contact events are faster than 100 Hz), the sensed channel at 50 Hz, the controller's 100 Hz report
-//             (every event), its per-tick status in bursts of 100 consecutive ticks every
-//             1000 (the calibration's force-response windows), tasks when they change, status
-//             and management channels whole; not the targets, joint commands or IK status.
+//             force jumps (contact events are faster than 100 Hz); the sensed channel at 50 Hz;
+//             the controller's 100 Hz report (with every event) and its per-tick status in
+//             bursts of 100 consecutive ticks every 1000 (the calibration's force-response
+//             windows); tasks when they change; status and management channels whole; not the
+//             targets, joint commands or IK status.
 //   none      no log (the recorder still extracts the metrics' columns online).
 // The one table of these rules is in record_policy.cc.
 #include <cstddef>
@@ -45,13 +46,14 @@ class RecordFilter {
   RecordPolicy policy() const { return policy_; }
 
  private:
-  RecordPolicy policy_;
-  std::map<std::string, KeepRule> rules_;                   // cache by channel
   bool TouchChanged(const std::string& channel, const KeepRule& rule, const void* data,
                     size_t size);
-  std::map<std::string, std::vector<uint8_t>> last_kept_;   // kOnChange: the last kept payload
-  std::map<std::string, std::vector<double>> last_touch_;   // kEveryTicksOrTouch: per finger,
-                                                            // force (or -1: no contact)
+
+  RecordPolicy policy_;
+  std::map<std::string, KeepRule> rules_;                  // cache by channel
+  std::map<std::string, std::vector<uint8_t>> last_kept_;  // kOnChange: the last kept payload
+  std::map<std::string, std::vector<double>> last_touch_;  // kEveryTicksOrTouch: per finger,
+                                                           // force (or -1: no contact)
 };
 
 // The tick (seq) of a dmpl message, or -1 when it is too short to carry one.

@@ -37,9 +37,9 @@ void LogRecorder::Flush() {
 void LogRecorder::Finish() {
   Flush();
   if (columns_) {
-    columns_->Finish("\"recorded\": {\"policy\": \"" + std::string(RecordPolicyName(filter_.policy())) +
-                     "\", \"received\": " + std::to_string(received_) +
-                     ", \"written\": " + std::to_string(written_) +
+    columns_->Finish("\"recorded\": {\"policy\": \"" +
+                     std::string(RecordPolicyName(filter_.policy())) + "\", \"received\": " +
+                     std::to_string(received_) + ", \"written\": " + std::to_string(written_) +
                      ", \"failed\": " + std::to_string(failed_) + "}");
   }
 }

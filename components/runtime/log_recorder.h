@@ -18,10 +18,10 @@
 namespace dmpl {
 
 struct RecordOptions {
-  std::string log_path;     // empty: no log (policy none)
+  std::string log_path;  // empty: no log (policy none)
   RecordPolicy policy = RecordPolicy::kFull;
   std::string channels = ".*";
-  std::string columns_dir;  // non-empty: the metrics' columns of every message, online
+  std::string columns_dir;            // non-empty: the metrics' columns of every message, online
   std::string columns_fields = ".*";  // which of their fields (LogColumns)
 };
 

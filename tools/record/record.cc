@@ -46,8 +46,9 @@ int main(int argc, char** argv) {
     } else if (arg == "--single-bus") {
       single_bus = true;
     } else if (arg == "-h" || arg == "--help") {
-      std::printf("usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] "
-                  "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [FILE]\n");
+      std::printf(
+          "usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] "
+          "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [FILE]\n");
       return 0;
     } else if (arg.rfind("--", 0) == 0 || !options.log_path.empty()) {
       std::fprintf(stderr, "dmpl_record: unexpected argument '%s' (try --help)\n", arg.c_str());
@@ -63,9 +64,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (options.log_path.empty() != (options.policy == dmpl::RecordPolicy::kNone)) {
-    std::fprintf(stderr, "dmpl_record: %s\n", options.log_path.empty()
-                                                   ? "no output FILE given"
-                                                   : "--policy none records no FILE");
+    std::fprintf(
+        stderr, "dmpl_record: %s\n",
+        options.log_path.empty() ? "no output FILE given" : "--policy none records no FILE");
     return 2;
   }
   const std::string file = options.log_path.empty() ? "(no log)" : options.log_path;

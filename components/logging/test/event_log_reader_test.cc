@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 #include <lcm/eventlog.h>
-
 #include <unistd.h>
 
 #include <cstdio>
@@ -16,7 +15,8 @@ namespace {
 
 std::string TempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() /
-          ("dmpl_" + name + "_" + std::to_string(::getpid()))).string();
+          ("dmpl_" + name + "_" + std::to_string(::getpid())))
+      .string();
 }
 
 // Writes events with LCM's own writer, so the reader is checked against the real format.

@@ -64,7 +64,8 @@ std::string ReadText(const std::string& path) {
 }
 
 TEST(LogColumnsTest, WritesOneRowPerMessageAndSkipsWhatItCannotDecode) {
-  const std::string dir = (fs::temp_directory_path() / ("dmpl_cols_" + std::to_string(getpid()))).string();
+  const std::string dir =
+      (fs::temp_directory_path() / ("dmpl_cols_" + std::to_string(getpid()))).string();
   {
     LogColumns cols(dir);
     for (int64_t s = 0; s < 10; ++s) {

@@ -65,8 +65,8 @@ TEST(RecordPolicyTest, FullKeepsEverythingAndNoneNothing) {
 
 TEST(RecordPolicyTest, AnalysisThinsTheTickChannelsByTheirRates) {
   RecordFilter f(RecordPolicy::kAnalysis);
-  EXPECT_EQ(Kept(&f, channels::kSensors, 0, 2000), 100);         // 50 Hz
-  EXPECT_EQ(Kept(&f, channels::kControllerStatus, 0, 2000), 200);  // 2 bursts of 100 ticks
+  EXPECT_EQ(Kept(&f, channels::kSensors, 0, 2000), 100);            // 50 Hz
+  EXPECT_EQ(Kept(&f, channels::kControllerStatus, 0, 2000), 200);   // 2 bursts of 100 ticks
   EXPECT_EQ(Kept(&f, channels::kControllerStatus, 950, 1050), 50);  // consecutive from 1000
   EXPECT_EQ(Kept(&f, channels::kControllerReport, 0, 200), 200);
   EXPECT_EQ(Kept(&f, channels::kJointCmd, 0, 100), 0);
