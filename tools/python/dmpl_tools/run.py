@@ -16,7 +16,7 @@ from pathlib import Path
 
 from . import experiment, metrics
 from .launch import RECORD_POLICIES, Launcher, SetError, parse_set
-from .logdata import Columns, LogData, LogError, extract, fields_regex
+from .logdata import Columns, LogData, extract, fields_regex
 from .paths import BUILD, ROOT
 
 
@@ -149,7 +149,7 @@ def _metrics_or_problems(columns_dir, log_path, config, problems):
         if data.problems:  # messages that could not be read: the metrics stand without them
             out["warnings"] = data.problems
         return out
-    except (LogError, OSError, ValueError, KeyError, IndexError) as e:
+    except Exception as e:  # whatever fails in the metrics must not lose the run's summary
         traceback.print_exc(file=sys.stderr)
         return {"error": f"metrics could not be computed: {type(e).__name__}: {e}"}
 
