@@ -27,7 +27,7 @@ from dmpl_tools.export import export
 from dmpl_tools.logdata import LogData
 from dmpl_tools.report import make_report
 from dmpl_tools.run import run_experiment, strict_json, write_summary
-from dmpl_tools.sweep import run_sweep
+from dmpl_tools.sweep import load_cases, run_sweep
 
 EXP = Path(mp.ROOT) / "configs/experiments"
 FIG8 = EXP / "fig8_sphere.yaml"
@@ -281,6 +281,30 @@ class SummariesTest(unittest.TestCase):
             size = sum(f.stat().st_size for f in trial.rglob("*") if f.is_file())
             self.assertLess(size, 10e6)
         shutil.rmtree(out)
+
+
+    def test_a_sweep_of_cases_writes_a_table_per_case(self):
+        folder = Path(tempfile.mkdtemp(prefix="dmpl_cases_"))
+        cases_file = folder / "cases.yaml"
+        cases_file.write_text(f"base: {FIG8}\ncases:\n  - {{name: nominal}}\n"
+                              "  - {name: heavy, set: {object.mass: 0.1}}\n")
+        trials, rate = run_sweep(cases_file, 1, 2, folder / "out", cases=load_cases(cases_file))
+        self.assertEqual([t["case"] for t in trials], ["nominal", "heavy"])
+        self.assertEqual([t["object_mass_kg"] for t in trials], [0.05, 0.1])
+        doc = json.loads((folder / "out/sweep.json").read_text())
+        self.assertEqual(doc["cases"]["heavy"]["trials"], 1)
+        self.assertAlmostEqual(doc["cases"]["heavy"]["object_weight_n"], 0.981)
+        self.assertGreater(doc["cases"]["heavy"]["grip_force_peak_max_n"], 0.981)
+        self.assertIn("| heavy | ", (folder / "out/sweep.md").read_text())
+        self.assertTrue((folder / "out/heavy/seed1/summary.json").exists())
+        for text, error in (("cases: []", "'base'"), (f"base: {FIG8}\ncases: []", "non-empty"),
+                            (f"base: {FIG8}\ncases: [{{name: a}}, {{name: a}}]", "repeated"),
+                            (f"base: {FIG8}\ncases: [{{name: a, sett: {{}}}}]", "cases[0]")):
+            cases_file.write_text(text)
+            with self.assertRaises(experiment.ExperimentError) as e:
+                load_cases(cases_file)
+            self.assertIn(error, str(e.exception))
+        shutil.rmtree(folder)
 
 
 if __name__ == "__main__":

@@ -17,7 +17,8 @@ Definitions (DESIGN.md section 6; the run's config section `metrics` sets the th
   step by step so that whole turns count.
 - final_orientation_error_rad: angle between the final true orientation and the last commanded
   object orientation (the orientation at task begin when nothing was commanded).
-- grip_force_total_n: mean over time of the summed fingertip normal forces while held.
+- grip_force_total_n: mean over time of the summed fingertip normal forces while held;
+  grip_force_peak_n: their largest value (to hold against the object's weight).
 - exploration_force_mean_n / _rms_error_n: the truth force of exploring fingers against the
   force asked of them, from 0.25 s after a finger became an explorer (the grip-to-light-touch
   transient is not the exploration).
@@ -109,7 +110,9 @@ def compute(data, config):
 
     if len(tact):
         held = (tact.t >= t_release)
-        summary["grip_force_total_n"] = float(tact["force"][held].sum(axis=1).mean()) if held.any() else 0.0
+        total = tact["force"][held].sum(axis=1)
+        summary["grip_force_total_n"] = float(total.mean()) if held.any() else 0.0
+        summary["grip_force_peak_n"] = float(total.max(initial=0.0))
         summary["contacts_lost"] = _contacts_lost(data, t_release, m["contact_loss_s"])
     if len(sup):
         summary["regrasps"] = int(sup["regrasps"][-1])

@@ -205,8 +205,9 @@ def print_headline(summary, out, stream=sys.stdout):
         print(f"  warning: {w}", file=stream)
 
 
-def add_common_args(ap):
-    ap.add_argument("config", help="experiment config (configs/experiments/*.yaml)")
+def add_common_args(ap, config_optional=False):
+    ap.add_argument("config", nargs="?" if config_optional else None,
+                    help="experiment config (configs/experiments/*.yaml)")
     ap.add_argument("--seed", type=int, help="run.seed")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="override any config key, e.g. object.radius=0.03")

@@ -1,11 +1,15 @@
 """tools/dmpl sweep CONFIG --seeds N [--jobs J] [--out DIR] [--set key=value]... [--multiprocess]
+   tools/dmpl sweep --cases FILE --seeds N [...]
 
-N trials of one experiment with seeds 1..N (or --first-seed S..), J at a time. Each trial runs in
-one-process mode (no sockets shared, nothing to collide); --multiprocess runs the full process
-set instead, each trial on its own LCM port. Writes DIR/sweep.md (a table), DIR/sweep.json
-(keys `trials`, `success_rate`, and one summary per trial), DIR/sweep.parquet (one row per trial,
-for pandas and polars) and each trial's run directory. Trials keep no log by default (--record
-none: their metrics are computed online); --record analysis or full keeps one per trial.
+N trials of one experiment with seeds 1..N (or --first-seed S..), J at a time. With --cases, every
+case of FILE times every seed: FILE names a base experiment and a list of named cases, each a set
+of overrides (the keys of --set; see configs/benchmarks/unknown_objects.yaml), and the tables are
+per case. Each trial runs in one-process mode (no sockets shared, nothing to collide);
+--multiprocess runs the full process set instead, each trial on its own LCM port. Writes DIR/sweep.md
+(tables), DIR/sweep.json (keys `trials`, `success_rate`, `cases`, and one summary per trial),
+DIR/sweep.parquet (one row per trial, for pandas and polars) and each trial's run directory
+(DIR/seedN, or DIR/CASE/seedN). Trials keep no log by default (--record none: their metrics are
+computed online); --record analysis or full keeps one per trial.
 """
 import argparse
 import json
@@ -16,6 +20,7 @@ import sys
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import experiment
@@ -23,13 +28,56 @@ from .launch import ACTIVE, RECORD_POLICIES, SetError
 from .paths import ROOT
 from .run import add_common_args, run_experiment, strict_json
 
+GRAVITY = 9.81
 COLUMNS = [("seed", "seed", "{}"), ("status", "status", "{}"),
            ("rotation_total_rad", "rotation (rad)", "{:.3f}"),
            ("final_orientation_error_rad", "final error (rad)", "{:.4f}"),
            ("max_position_drift_m", "drift (m)", "{:.4f}"),
-           ("grip_force_total_n", "grip (N)", "{:.2f}"), ("contacts_lost", "contacts lost", "{}"),
+           ("grip_force_total_n", "grip (N)", "{:.2f}"),
+           ("grip_force_peak_n", "peak grip (N)", "{:.2f}"),
+           ("contacts_lost", "contacts lost", "{}"),
            ("regrasps", "regrasps", "{}"), ("object_dropped", "dropped", "{}"),
            ("sim_time_s", "sim time (s)", "{:.1f}"), ("realtime_factor", "RTF", "{:.2f}")]
+
+
+@dataclass
+class Case:
+    """One experiment of a sweep: a config and its overrides; `name` is None for a plain sweep."""
+    name: str
+    config: Path
+    sets: list = field(default_factory=list)
+
+
+def load_cases(path):
+    """The cases of a --cases file: `base` (an experiment, relative to the file) and `cases`, a
+    list of {name, set: {key: value}}. Errors name the file and the entry."""
+    data = experiment.load_yaml(path)
+    where = str(path)
+    unknown = set(data) - {"base", "cases"}
+    if unknown:
+        raise experiment.ExperimentError(f"{where}: unknown keys {sorted(unknown)} (expected "
+                                         "base, cases)")
+    if not isinstance(data.get("base"), str):
+        raise experiment.ExperimentError(f"{where}: 'base' must name an experiment file")
+    base = (Path(path).parent / data["base"]).resolve()
+    if not base.is_file():
+        raise experiment.ExperimentError(f"{where}: base '{data['base']}' does not exist")
+    entries = data.get("cases")
+    if not isinstance(entries, list) or not entries:
+        raise experiment.ExperimentError(f"{where}: 'cases' must be a non-empty list")
+    cases, names = [], set()
+    for i, entry in enumerate(entries):
+        if not isinstance(entry, dict) or not isinstance(entry.get("name"), str) or \
+                set(entry) - {"name", "set"} or not isinstance(entry.get("set", {}), dict):
+            raise experiment.ExperimentError(f"{where}: cases[{i}] must be {{name: ..., set: "
+                                             "{key: value, ...}}")
+        if entry["name"] in names or "/" in entry["name"]:
+            raise experiment.ExperimentError(f"{where}: cases[{i}]: name '{entry['name']}' is "
+                                             "repeated or has a '/'")
+        names.add(entry["name"])
+        sets = [f"{k}={json.dumps(v)}" for k, v in entry.get("set", {}).items()]
+        cases.append(Case(entry["name"], base, sets))
+    return cases
 
 
 def _cell(summary, key, fmt):
@@ -42,15 +90,51 @@ def _cell(summary, key, fmt):
         return str(v)
 
 
-def write_table(out, config_path, trials):
-    rows = ["| " + " | ".join(c[1] for c in COLUMNS) + " |",
-            "| " + " | ".join("---" for _ in COLUMNS) + " |"]
+def _table(columns, trials):
+    rows = ["| " + " | ".join(c[1] for c in columns) + " |",
+            "| " + " | ".join("---" for _ in columns) + " |"]
     for s in trials:
-        rows.append("| " + " | ".join(_cell(s, k, f) for k, _, f in COLUMNS) + " |")
+        rows.append("| " + " | ".join(_cell(s, k, f) for k, _, f in columns) + " |")
+    return rows
+
+
+def case_stats(trials):
+    """What a case's trials add up to: success rate, medians and extremes, drops."""
+    def values(key):
+        return [s[key] for s in trials if isinstance(s.get(key), (int, float))
+                and not isinstance(s.get(key), bool)]
+    ok = [s for s in trials if s.get("status") == "success"]
+    rotation, drift, peak = values("rotation_total_rad"), values("max_position_drift_m"), \
+        values("grip_force_peak_n")
+    mass = values("object_mass_kg")
+    return {"trials": len(trials), "succeeded": len(ok),
+            "success_rate": len(ok) / len(trials) if trials else 0.0,
+            "rotation_median_rad": statistics.median(rotation) if rotation else None,
+            "drift_max_m": max(drift) if drift else None,
+            "grip_force_peak_max_n": max(peak) if peak else None,
+            "object_weight_n": mass[0] * GRAVITY if mass else None,
+            "drops": sum(1 for s in trials if s.get("object_dropped"))}
+
+
+CASE_COLUMNS = [("case", "case", "{}"), ("succeeded", "succeeded", "{}"),
+                ("trials", "trials", "{}"), ("success_rate", "success", "{:.0%}"),
+                ("rotation_median_rad", "rotation median (rad)", "{:.3f}"),
+                ("drift_max_m", "drift max (m)", "{:.4f}"),
+                ("grip_force_peak_max_n", "peak grip (N)", "{:.2f}"),
+                ("object_weight_n", "weight (N)", "{:.3f}"), ("drops", "drops", "{}")]
+
+
+def write_table(out, title, trials):
     ok = [s for s in trials if s.get("status") == "success"]
     rate = len(ok) / len(trials) if trials else 0.0
-    lines = [f"# Sweep of `{config_path}`", "",
+    lines = [f"# Sweep of `{title}`", "",
              f"{len(ok)} of {len(trials)} trials succeeded (success rate {rate:.0%}).", ""]
+    cases = list(dict.fromkeys(s["case"] for s in trials if s.get("case")))
+    per_case = {}
+    if cases:
+        per_case = {c: case_stats([s for s in trials if s.get("case") == c]) for c in cases}
+        lines += ["## Per case", "", *_table(CASE_COLUMNS, [dict(v, case=c) for c, v in
+                                                            per_case.items()]), ""]
     for key, label in (("rotation_total_rad", "rotation"), ("final_orientation_error_rad",
                                                           "final orientation error"),
                        ("realtime_factor", "real-time factor")):
@@ -58,10 +142,13 @@ def write_table(out, config_path, trials):
         if vals:
             lines.append(f"- {label}: median {statistics.median(vals):.4g}, "
                          f"min {min(vals):.4g}, max {max(vals):.4g}")
-    lines += ["", *rows, ""]
+    columns = ([("case", "case", "{}")] if cases else []) + COLUMNS
+    lines += ["", "## Trials", "", *_table(columns, trials), ""]
     (out / "sweep.md").write_text("\n".join(lines))
-    doc = {"config": str(config_path), "trials": len(trials), "succeeded": len(ok),
+    doc = {"config": str(title), "trials": len(trials), "succeeded": len(ok),
            "success_rate": rate, "summaries": trials}
+    if per_case:
+        doc["cases"] = per_case
     (out / "sweep.json").write_text(json.dumps(strict_json(doc, []), indent=2, sort_keys=True,
                                                allow_nan=False))
     write_parquet(out / "sweep.parquet", trials)
@@ -86,9 +173,14 @@ def write_parquet(path, trials):
 
 
 def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=True,
-              first_seed=1, port_base=7900, record="none"):
+              first_seed=1, port_base=7900, record="none", cases=None):
+    """Runs every case (default: one, `config_path` with `sets`) with every seed; returns the
+    trials' summaries (each with its `case` when there are cases) and the success rate."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    named = cases is not None
+    cases = cases or [Case(None, Path(config_path), [])]
+    work = [(case, first_seed + i) for case in cases for i in range(seeds)]
     lock = threading.Lock()
     done = []
     # With no more trials at a time than CPUs, each trial runs on a CPU of its own (a pinned
@@ -99,28 +191,32 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
     for c in available:
         cpus.put(c)
 
-    def trial(i):
-        seed = first_seed + i
-        url = None if one_process else f"udpm://239.255.76.67:{port_base + i}?ttl=0"
+    def trial(index):
+        case, seed = work[index]
+        run_dir = out / case.name / f"seed{seed}" if named else out / f"seed{seed}"
+        url = None if one_process else f"udpm://239.255.76.67:{port_base + index}?ttl=0"
         cpu = cpus.get() if pinned else None
         try:
-            summary, _ = run_experiment(config_path, out / f"seed{seed}", seed=seed, sets=sets,
+            summary, _ = run_experiment(case.config, run_dir, seed=seed, sets=[*case.sets, *sets],
                                         params=params, lcm_url=url, echo=False,
                                         one_process=one_process, record=record,
                                         cpus=None if cpu is None else [cpu])
         finally:
             if cpu is not None:
                 cpus.put(cpu)
+        if named:
+            summary["case"] = case.name
         with lock:
             done.append(seed)
             rotation = summary.get("rotation_total_rad")
-            print(f"[sweep] seed {seed}: {summary['status']}, rotation "
+            label = f"{case.name} seed {seed}" if named else f"seed {seed}"
+            print(f"[sweep] {label}: {summary['status']}, rotation "
                   f"{'-' if rotation is None else f'{rotation:.3f}'} rad, "
-                  f"{len(done)}/{seeds} done", file=sys.stderr, flush=True)
+                  f"{len(done)}/{len(work)} done", file=sys.stderr, flush=True)
         return summary
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        futures = [pool.submit(trial, i) for i in range(seeds)]
+        futures = [pool.submit(trial, i) for i in range(len(work))]
         try:
             trials = [f.result() for f in futures]
         except KeyboardInterrupt:
@@ -136,8 +232,10 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="tools/dmpl sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_common_args(ap)
-    ap.add_argument("--seeds", type=int, required=True, help="number of trials")
+    add_common_args(ap, config_optional=True)
+    ap.add_argument("--cases", metavar="FILE",
+                    help="a base experiment and named cases (configs/benchmarks/*.yaml)")
+    ap.add_argument("--seeds", type=int, required=True, help="number of trials (per case)")
     ap.add_argument("--first-seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2, help="trials at a time (default 2)")
     ap.add_argument("--out", help="output directory (default out/sweeps/NAME-TIME)")
@@ -150,11 +248,20 @@ def main(argv=None):
         ap.error("--seed does not apply to a sweep; use --first-seed")
     if args.seeds < 1 or args.jobs < 1:
         ap.error("--seeds and --jobs must be >= 1")
-    name = Path(args.config).stem
+    if (args.config is None) == (args.cases is None):
+        ap.error("give either CONFIG or --cases FILE")
+    try:
+        cases = load_cases(args.cases) if args.cases else None
+    except experiment.ExperimentError as e:
+        print(f"dmpl sweep: error: {e}", file=sys.stderr)
+        return 2
+    title = args.cases or args.config
+    name = Path(title).stem
     out = Path(args.out) if args.out else ROOT / "out" / "sweeps" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     try:
-        trials, rate = run_sweep(args.config, args.seeds, args.jobs, out, args.set, args.params,
-                                 not args.multiprocess, args.first_seed, record=args.record)
+        trials, rate = run_sweep(title, args.seeds, args.jobs, out, args.set, args.params,
+                                 not args.multiprocess, args.first_seed, record=args.record,
+                                 cases=cases)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl sweep: error: {e}", file=sys.stderr)
         return 2
