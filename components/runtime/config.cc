@@ -73,4 +73,12 @@ std::string ResolveLcmUrl(const std::string& cli_url, const RunParams& run) {
   return kDefaultLcmUrl;
 }
 
+Config Config::Without(const std::string& section) const {
+  Config out;
+  out.source_ = source_;
+  out.root_ = YAML::Clone(root_);
+  out.root_.remove(section);
+  return out;
+}
+
 }  // namespace dmpl

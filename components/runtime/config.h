@@ -61,6 +61,8 @@ class Config {
   }
 
   const YAML::Node& root() const { return root_; }
+  // A copy without one top-level section (the object, for every node but the simulator).
+  Config Without(const std::string& section) const;
   const std::string& source() const { return source_; }
 
  private:

@@ -2,14 +2,20 @@
 run by tools/dmpl run, with assertions on summary.json; variants (another radius, another axis)
 in one-process mode, which gives the same results faster. The finger-gaiting experiments run a
 shorter rotation here (one cycle); the whole turns belong to sweeps (tools/dmpl sweep)."""
+import os
+import subprocess
 import sys
 import tempfile
 import unittest
+from pathlib import Path
+
+import yaml
 
 import mp
 from dmpl_tools.run import run_experiment
 
 EXP = mp.ROOT + "/configs/experiments/"
+BIN = Path(os.environ.get("DMPL_BUILD_DIR", Path(mp.ROOT) / "build")) / "bin"
 
 
 def run(name, *sets, one_process=False, seed=1):
@@ -42,6 +48,27 @@ class ExperimentsTest(unittest.TestCase):
             self.assertFalse(s["object_dropped"])
             self.assertLess(s["exploration_force_rms_error_n"], 0.05)
             self.assertAlmostEqual(s["exploration_force_mean_n"], 0.1, delta=0.03)
+
+    def test_only_the_simulator_is_given_the_object(self):
+        # The hand's own software (noise, IK, controller, supervisor) gets the config without its
+        # `object` section: it cannot read the object's shape, size, mass or friction.
+        out = Path(tempfile.mkdtemp(prefix="dmpl_blind_"))
+        summary, _ = run_experiment(EXP + "fig8_sphere.yaml", out, echo=False,
+                                    sets=["object.mass=0.07"])
+        self.assertEqual(summary["status"], "success", summary.get("problems"))
+        sensing = yaml.safe_load((out / "config.sensing.yaml").read_text())
+        self.assertNotIn("object", sensing)
+        self.assertEqual(yaml.safe_load((out / "config.yaml").read_text())["object"]["mass"], 0.07)
+        for p in sensing["processes"]:
+            given = p["args"][p["args"].index("--config") + 1]
+            self.assertEqual(given, "${config}" if p["name"] == "dmpl_sim" else
+                             "${sensing_config}", p["name"])
+        for node in ("dmpl_controller", "dmpl_supervisor"):
+            r = subprocess.run([str(BIN / node), "--config", str(out / "config.sensing.yaml"),
+                                "--print-config"], capture_output=True, text=True, timeout=30)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertNotIn("object:", r.stdout)
+            self.assertNotIn("0.07", r.stdout)
 
     def test_fig10_gait_short(self):
         # A few steps of the configured gait (R, then M explore while three hold; all four turn

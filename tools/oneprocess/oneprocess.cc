@@ -9,6 +9,7 @@
 // The experiment's `processes` say which nodes run (by their executables' names).
 #include <csignal>
 #include <iostream>
+#include <list>
 #include <map>
 
 #include "components/runtime/clock.h"
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
     return 3;
   }
   ctx.bus = &bus;
+  std::list<dmpl::NodeContext> contexts;  // before the nodes: destroyed after them
   std::vector<std::unique_ptr<dmpl::Node>> nodes;
   try {
     const YAML::Node processes = ctx.config.root()["processes"];
@@ -95,7 +97,13 @@ int main(int argc, char** argv) {
                                 "' has no one-process node");
       }
       ctx.name = p["name"] ? p["name"].as<std::string>() : exec;
-      nodes.push_back(it->second(ctx));
+      // Only the simulator is given the object; the hand's own software senses it. Nodes may
+      // keep a reference to their context: each lives as long as the nodes. (Built, never
+      // assigned: assigning a YAML::Node rebinds the node it shares with ctx.config.)
+      contexts.push_back(dmpl::NodeContext{
+          ctx.name, exec == "dmpl_sim" ? ctx.config : ctx.config.Without("object"), ctx.run,
+          ctx.bus});
+      nodes.push_back(it->second(contexts.back()));
     }
   } catch (const std::exception& e) {
     log->critical("{}", e.what());

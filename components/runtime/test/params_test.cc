@@ -192,5 +192,16 @@ TEST(ConfigTest, ParamsOverlayAndSetApplyInOrder) {
   EXPECT_EQ(ResolveLcmUrl("memq://", run), "memq://");
 }
 
+TEST(ConfigTest, WithoutASectionLeavesTheOriginalWhole) {
+  const std::string path = ::testing::TempDir() + "/dmpl_without.yaml";
+  std::ofstream(path) << "run: {seed: 3}\nobject: {mass: 0.2}\n";
+  const Config full = Config::Resolve(path, {}, {});
+  const Config blind = full.Without("object");
+  EXPECT_FALSE(blind.root()["object"].IsDefined());
+  EXPECT_EQ(blind.root()["run"]["seed"].as<int>(), 3);
+  EXPECT_EQ(full.root()["object"]["mass"].as<double>(), 0.2);  // the clone is a clone
+  std::remove(path.c_str());
+}
+
 }  // namespace
 }  // namespace dmpl

@@ -138,6 +138,12 @@ def check_processes(config_path, config):
             raise ExperimentError(msg[-1] if msg else f"{exe} --check failed ({r.returncode})")
 
 
+def sensing_view(config):
+    """The config without the object: what the hand's own software (noise, IK, controller,
+    supervisor) is given. Only the simulator knows the object's shape, size, mass and friction."""
+    return {k: copy.deepcopy(v) for k, v in config.items() if k != "object"}
+
+
 def write(config, path):
     with open(path, "w") as f:
         yaml.safe_dump(config, f, sort_keys=False)

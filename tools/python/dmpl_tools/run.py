@@ -46,10 +46,12 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     out.mkdir(parents=True, exist_ok=True)
-    resolved = out / "config.yaml"
+    resolved, sensing = out / "config.yaml", out / "config.sensing.yaml"
     experiment.write(config, resolved)
+    experiment.write(experiment.sensing_view(config), sensing)
     experiment.check_processes(resolved, config)
-    variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved)}
+    variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved),
+                 "sensing_config": str(sensing)}
     log_path, columns_dir = out / "run.lcmlog", out / "columns"
     for stale in (log_path, out / "summary.json"):
         if stale.exists():
