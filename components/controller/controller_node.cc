@@ -172,6 +172,8 @@ class ControllerNode : public Node {
     status_.motion_done = out.motion_done;
     status_.grasp_stable = out.grasp_stable;
     status_.tracking_error_rad = out.tracking_error_rad;
+    status_.grip_force_n = out.grip_force_n;
+    status_.load_scale = out.load_scale;
     status_.tracking_error_m = out.tracking_error_m;
     PoseTo(out.object_estimate, status_.object_position, status_.object_orientation);
     for (int i = 0; i < 3; ++i) status_.contact_centroid[i] = out.contact_centroid[i];

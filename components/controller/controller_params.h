@@ -1,6 +1,7 @@
 #pragma once
 #include <array>
 
+#include "components/controller/grip_adapter.h"
 #include "components/runtime/params.h"
 
 namespace dmpl {
@@ -42,6 +43,7 @@ struct ControllerParams {
   double min_grip_force_n = 0.4;
   double explore_force_n = 0.1;          // exploration finger (the paper's 0.1 N)
   double role_change_s = 0.3;            // a finger's desired force ramps to its new role's
+  GripAdaptationParams grip_adaptation;  // the grip raised for the explorer's share and on slip
   ForceGains force;                      // grip fingers (composite)
   ForceGains explore_force{0.002, 0.15, 0.015};  // exploration (hybrid): a light touch must
                                                  // follow the object's small motions closely
@@ -93,6 +95,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(min_grip_force_n));
     a->Visit(DMPL_NVP(explore_force_n));
     a->Visit(DMPL_NVP(role_change_s));
+    a->Visit(DMPL_NVP(grip_adaptation));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));

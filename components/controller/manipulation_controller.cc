@@ -36,6 +36,16 @@ void ControllerParams::Validate(const std::string& source) const {
     fail("min_grip_force_n", "must be in [0, grip_force_n]");
   }
   if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
+  const GripAdaptationParams& g = grip_adaptation;
+  if (!(g.slip_speed_m_per_s > 0) || g.slip_time_constant_s < 0 || g.refractory_s < 0) {
+    fail("grip_adaptation", "slip_speed_m_per_s must be > 0, time constant and refractory >= 0");
+  }
+  if (!(g.raise_factor >= 1.0 && g.raise_factor <= 3.0)) {
+    fail("grip_adaptation.raise_factor", "must be in [1, 3]");
+  }
+  if (!(g.max_grip_force_n >= grip_force_n)) {
+    fail("grip_adaptation.max_grip_force_n", "must be >= grip_force_n");
+  }
   for (const auto& [key, g] : {std::pair{"force", force}, {"explore_force", explore_force}}) {
     if (g.kp < 0 || g.ki < 0 || !(g.integral_limit > 0)) {
       fail(key, "kp, ki must be >= 0 and integral_limit > 0");
@@ -53,7 +63,8 @@ ManipulationController::ManipulationController(const HandKinematics& kinematics,
     : kin_(kinematics),
       params_(params),
       dt_(tick_s),
-      fingers_(kinematics.num_fingers()) {
+      fingers_(kinematics.num_fingers()),
+      grip_(params.grip_adaptation, params.grip_force_n) {
   DMPL_DEMAND(tick_s > 0);
   out_.fingers.resize(kinematics.num_fingers());
   max_linear_ = params_.max_linear_speed;
@@ -281,8 +292,27 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
                                                     params_.surface_centre_offset[1],
                                                     params_.surface_centre_offset[2]);
   }
-  const ForcePlan plan = PlanGripForces(contacts, in_grip, params_.grip_force_n,
-                                        params_.min_grip_force_n, external, aim);
+  // The grip adapts to the load: the explorer's share and what slips taught (grip_adapter.h).
+  std::vector<std::optional<Eigen::Vector3d>> offsets(nf);
+  int holding = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (in_grip[f]) offsets[f] = in.tips[f].position - tips[f];
+    const FingerState& s = fingers_[f];
+    holding += (s.task.role == Role::kGrip && s.task.primitive == Primitive::kComposite) ||
+               (s.task.role == Role::kExplore && s.task.primitive == Primitive::kHybrid);
+  }
+  const int gripping = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
+  if (grip_.Update(now_, offsets, gripping, holding)) {
+    Emit(EventType::kSlip, -1, grip_.load_scale(),
+         "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
+             std::to_string(grip_.grip_force()) + " N");
+  }
+  const double grip_force = grip_.grip_force();
+  out_.grip_force_n = grip_force;
+  out_.load_scale = grip_.load_scale();
+  const ForcePlan plan =
+      PlanGripForces(contacts, in_grip, grip_force,
+                     params_.min_grip_force_n * grip_force / params_.grip_force_n, external, aim);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
   const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   const Eigen::Vector3d centre =
@@ -358,7 +388,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
         if (!in_grip[f]) {
           // Not (yet) part of the balance: push toward the object to (re)gain contact.
           direction = centre - contacts[f];
-          desired = s.task.role == Role::kGrip ? params_.grip_force_n : params_.explore_force_n;
+          desired = s.task.role == Role::kGrip ? grip_force : params_.explore_force_n;
         }
         if (s.task.force_n > 0) desired = s.task.force_n;
         desired = Ramp(s, desired);

@@ -19,6 +19,7 @@
 
 #include "components/controller/controller_params.h"
 #include "components/controller/force_planner.h"
+#include "components/controller/grip_adapter.h"
 #include "components/kinematics/hand_kinematics.h"
 
 namespace dmpl {
@@ -68,6 +69,7 @@ enum class EventType : int8_t {
   kTrackingError = 6,
   kTargetReached = 7,
   kGraspLost = 8,
+  kSlip = 9,
 };
 
 struct ControllerEvent {
@@ -100,6 +102,8 @@ struct ControllerOutput {
   double tracking_error_m = 0.0;
   Eigen::Isometry3d object_estimate = Eigen::Isometry3d::Identity();
   Eigen::Vector3d contact_centroid = Eigen::Vector3d::Zero();
+  double grip_force_n = 0.0;           // planned per grip finger (GripAdapter)
+  double load_scale = 1.0;
 };
 
 class ManipulationController {
@@ -147,6 +151,7 @@ class ManipulationController {
   double now_ = 0.0;
   double last_time_ = -1.0;
   std::vector<FingerState> fingers_;
+  GripAdapter grip_;
   ControllerOutput out_;
   int32_t task_id_ = -1;
   bool has_estimate_ = false;

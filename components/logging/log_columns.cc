@@ -226,6 +226,8 @@ bool AddControllerStatus(LogColumns::Channel* ch, const controller_status_t& m,
   t.PutArray("object_position", m.object_position, {3});
   t.PutArray("object_orientation", m.object_orientation, {4});
   t.PutArray("contact_centroid", m.contact_centroid, {3});
+  t.Put("grip_force_n", m.grip_force_n);
+  t.Put("load_scale", m.load_scale);
   std::vector<int8_t> role, primitive, contact;
   std::vector<double> force, desired;
   std::vector<double> tip, target, contact_pos;
