@@ -217,7 +217,8 @@ class BadLogsTest(unittest.TestCase):
                                delta=1e-4)
         # The report of that log is written, with the skipped messages as warnings.
         report = make_report(bad, bad.parent / "report")
-        self.assertIn("| warning | DMPL_SENSORS_TRUE: 2 messages skipped", report.read_text())
+        self.assertIn("| warning | reading the log: DMPL_SENSORS_TRUE: 2 messages skipped",
+                      report.read_text())
         r = subprocess.run([str(BUILD / "bin/dmpl_calibrate"), str(bad), "--out",
                             str(bad.parent / "c.yaml")], capture_output=True, text=True)
         self.assertIn("no excitation", r.stderr)  # read to the end; refused for its content

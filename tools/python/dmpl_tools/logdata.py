@@ -188,6 +188,9 @@ class LogData:
         self.controller_channel = use
         self.controller = Series(_t(ctl), {
             "desired_force": _get(ctl, "desired_force", (nf,)),
+            # The grip force planned per finger (adapted to the load); NaN in logs without it.
+            "grip_force": ctl["grip_force_n"] if "grip_force_n" in ctl
+            else np.full(len(_t(ctl)), np.nan),
             "role": _get(ctl, "role", (nf,), int).astype(int),
             "events": list(zip(_t(events), events.get("type", []), events.get("finger", []),
                                events.get("text", [])))})

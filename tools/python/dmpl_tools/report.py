@@ -23,10 +23,14 @@ from . import channels, experiment, metrics
 from .logdata import (AXES, LogData, LogError, cumulative_rotation, quat_conj, quat_mul,
                       rotation_vector)
 
-# What the plots read: the metrics' columns and the sensed object pose.
+# What the plots read: the metrics' columns, the sensed object pose, the planned grip force and
+# the controller's events (slips).
+_CONTROLLER = ["utime", "seq", "role", "desired_force", "grip_force_n", "events/.*"]
 FIELDS = {**metrics.COLUMNS,
           channels.SENSORS: ["utime", "seq", "object_position", "object_orientation",
-                             "object_valid"]}
+                             "object_valid"],
+          channels.CONTROLLER_STATUS: _CONTROLLER, channels.CONTROLLER_REPORT: _CONTROLLER}
+EVENT_SLIP = 9  # controller_event_t.SLIP
 
 ROLE_COLOURS = {1: None, 2: "#ffb74d", 0: "#cfd8dc"}  # grip: none, explore: orange, free: grey
 FINGER_COLOURS = ["#1f77b4", "#2ca02c", "#d62728", "#9467bd"]
@@ -171,9 +175,17 @@ def plot_forces(data, path):
                             transform=ax.get_xaxis_transform(), lw=0,
                             label={2: "explore", 0: "free"}[role] if f == 0 else None)
         ax.plot(*thin(tact.t, tact["force"][:, f]), color=FINGER_COLOURS[f], lw=0.7)
+        ctl = data.controller
+        if len(ctl) and np.isfinite(ctl["grip_force"]).any():
+            ax.plot(*thin(ctl.t, ctl["grip_force"]), ":", color="#555555", lw=0.9,
+                    label="grip force planned" if f == 0 else None)
+        for k, (t_event, kind, _, _) in enumerate(e for e in ctl["events"] if e[1] == EVENT_SLIP):
+            ax.axvline(t_event, color="#d62728", lw=0.8,
+                       label="slip detected" if f == 0 and k == 0 else None)
         ax.set_ylabel(f"{name} (N)")
         ax.grid(alpha=0.3)
-    axes[0].set_title("Contact forces, finger roles shaded (Fig. 10)")
+    axes[0].set_title("Contact forces, finger roles shaded, the grip planned for the load "
+                      "(Fig. 10)")
     axes[0].legend(loc="upper right", fontsize=8)
     axes[-1].set_xlabel("time (s)")
     fig.tight_layout()
@@ -237,8 +249,9 @@ def make_report(log_path, out_dir=None, summary=None, config=None):
     data = LogData.from_log(log_path, FIELDS)
     if summary is None:
         summary = metrics.compute(data, config)
-        if data.problems:
-            summary["warnings"] = data.problems
+    if data.problems:  # what this pass over the log could not read (beside the run's own)
+        summary = dict(summary, warnings=[*summary.get("warnings", []),
+                                          *(f"reading the log: {p}" for p in data.problems)])
     axis = str(config.get("task", {}).get("axis", "x"))
     plot_orientation(data, axis if axis in AXES else "x", out / FIGURES[0][0])
     plot_position(data, out / FIGURES[1][0])
