@@ -389,6 +389,9 @@ class Launcher:
     def _start_logger(self):
         if not self.record:
             return
+        if self.record_policy == "none" and not self.columns:
+            self.say("recording no log (policy none)")
+            return
         log_path = self.run_dir / "run.lcmlog"
         args = ["--lcm-url", self.url, "--channels", self.pset.record_channels,
                 "--policy", self.record_policy, *(["--single-bus"] if self.single_bus else [])]
