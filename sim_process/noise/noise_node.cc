@@ -1,4 +1,5 @@
-// dmpl_noise: DMPL_SENSORS_TRUE in, DMPL_SENSORS out (DESIGN.md §1). Reads sections `run`, `noise`.
+// dmpl_noise: DMPL_SENSORS_TRUE in, DMPL_SENSORS out (README, "The processes"). Reads sections
+// `run`, `noise`.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"

@@ -8,7 +8,7 @@
 
 namespace dmpl {
 
-// The physics settings PyBullet uses for grasping (DESIGN.md §3), not Bullet's game defaults.
+// The physics settings PyBullet uses for grasping, not Bullet's game defaults.
 struct PhysicsParams {
   double time_step = 0.001;           // s
   int solver_iterations = 50;

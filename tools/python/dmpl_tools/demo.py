@@ -12,6 +12,7 @@ import time
 
 from .bus import Buses
 from .launch import RECORD_POLICIES
+from .logdata import LogError
 from .paths import ROOT
 from .report import make_report
 from .run import cpu_list, loop_layout, print_headline, run_experiment
@@ -78,7 +79,10 @@ def main(argv=None):
     log = out / "run.lcmlog"
     print_headline(summary, out)
     if log.exists():
-        print(f"\nreport: {make_report(log, out / 'report')}")
+        try:
+            print(f"\nreport: {make_report(log, out / 'report')}")
+        except (LogError, OSError) as e:  # the summary is written; say why there is no report
+            print(f"\nreport: not written: {e}")
         print(f"log:    {log} ({summary.get('record_policy')}; tools/dmpl replay it for "
               "tools/dmpl spy)")
     return 0 if summary["status"] == "success" else 1

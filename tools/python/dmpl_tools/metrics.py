@@ -5,7 +5,7 @@ run, whatever the log keeps (COLUMNS below are all they need), or those of a rec
 analysis log (truth at 100 Hz) they approximate these definitions; the run's own summary.json
 holds the exact values.
 
-Definitions (DESIGN.md section 6; the run's config section `metrics` sets the thresholds):
+Definitions (the run's config section `metrics` sets the thresholds):
 - release: the first SIM_CONTROL RELEASE (t = 0 if the object was never held).
 - task begin: the first supervisor status in the task phase; without a supervisor, release +
   metrics.settle_s.
