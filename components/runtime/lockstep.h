@@ -2,10 +2,10 @@
 // Lockstep join (README, "Lockstep and real time"): a node's tick k runs once every input it
 // needs for tick k has arrived. Input 0 drives: one message per tick, its seq is the tick.
 // Every other input i serves tick k with the message of seq k + offset_i, rounded down to a
-// multiple of period_i (offset -1 for an answer to the previous tick, such as the supervisor's task command; period
-// 10 when the supervisor answers every tenth tick). Ticks fire in order, each exactly once (a
-// tick whose driving message was lost is skipped: the simulator reports the missing answer);
-// messages for ticks already done are stale and counted.
+// multiple of period_i (offset -1 for an answer to the previous tick, such as the supervisor's
+// task command; period 10 when the supervisor answers every tenth tick). Ticks fire in order,
+// each exactly once (a tick whose driving message was lost is skipped: the simulator reports the
+// missing answer); messages for ticks already done are stale and counted.
 #include <cstdint>
 #include <set>
 #include <string>
