@@ -310,9 +310,9 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   const double grip_force = grip_.grip_force();
   out_.grip_force_n = grip_force;
   out_.load_scale = grip_.load_scale();
-  const ForcePlan plan =
-      PlanGripForces(contacts, in_grip, grip_force,
-                     params_.min_grip_force_n * grip_force / params_.grip_force_n, external, aim);
+  // The minimum scales with the grip (the ratio first: 1.0 exactly when nothing adapted).
+  const double minimum = params_.min_grip_force_n * (grip_force / params_.grip_force_n);
+  const ForcePlan plan = PlanGripForces(contacts, in_grip, grip_force, minimum, external, aim);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
   const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   const Eigen::Vector3d centre =
