@@ -36,14 +36,16 @@ void ControllerParams::Validate(const std::string& source) const {
     fail("min_grip_force_n", "must be in [0, grip_force_n]");
   }
   if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
-  const GripAdaptationParams& g = grip_adaptation;
-  if (!(g.slip_speed_m_per_s > 0) || g.slip_time_constant_s < 0 || g.refractory_s < 0) {
-    fail("grip_adaptation", "slip_speed_m_per_s must be > 0, time constant and refractory >= 0");
+  const GripAdaptationParams& adapt = grip_adaptation;
+  if (!(adapt.slip_speed_m_per_s > 0) || adapt.slip_time_constant_s < 0 ||
+      !(adapt.slip_window_s > 0) || adapt.refractory_s < 0) {
+    fail("grip_adaptation", "slip_speed_m_per_s and slip_window_s must be > 0, "
+                            "slip_time_constant_s and refractory_s >= 0");
   }
-  if (!(g.raise_factor >= 1.0 && g.raise_factor <= 3.0)) {
+  if (!(adapt.raise_factor >= 1.0 && adapt.raise_factor <= 3.0)) {
     fail("grip_adaptation.raise_factor", "must be in [1, 3]");
   }
-  if (!(g.max_grip_force_n >= grip_force_n)) {
+  if (!(adapt.max_grip_force_n >= grip_force_n)) {
     fail("grip_adaptation.max_grip_force_n", "must be >= grip_force_n");
   }
   for (const auto& [key, g] : {std::pair{"force", force}, {"explore_force", explore_force}}) {
@@ -301,8 +303,8 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
     holding += (s.task.role == Role::kGrip && s.task.primitive == Primitive::kComposite) ||
                (s.task.role == Role::kExplore && s.task.primitive == Primitive::kHybrid);
   }
-  const int gripping = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
-  if (grip_.Update(now_, offsets, gripping, holding)) {
+  const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
+  if (grip_.Update(now_, offsets, grip_contacts, holding)) {
     Emit(EventType::kSlip, -1, grip_.load_scale(),
          "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
              std::to_string(grip_.grip_force()) + " N");
@@ -314,7 +316,6 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   const double minimum = params_.min_grip_force_n * (grip_force / params_.grip_force_n);
   const ForcePlan plan = PlanGripForces(contacts, in_grip, grip_force, minimum, external, aim);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
-  const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   const Eigen::Vector3d centre =
       grip_contacts >= 2 ? plan.centroid
                          : (has_estimate_ ? Eigen::Vector3d(estimate_.translation()) : Eigen::Vector3d::Zero());
