@@ -1,4 +1,4 @@
-# Every external dependency, found once. Traps on Debian 12 are in DESIGN.md §3.
+# Every external dependency, found once. Their traps on Debian 12: docs/dependencies.md.
 find_package(PkgConfig REQUIRED)
 # LCM 1.3.1 ships no CMake config; its pkg-config file needs glib.
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
