@@ -1,5 +1,6 @@
 #include "components/logging/log_columns.h"
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -98,6 +99,10 @@ class LogColumns::Table {
     Put(name, it->second);
   }
   void EndRow() { ++rows_; }
+  bool HasColumns() const {
+    return std::any_of(columns_.begin(), columns_.end(),
+                       [](const auto& c) { return c.second != nullptr; });
+  }
 
   void Close() {
     for (auto& [name, col] : columns_) {
@@ -142,6 +147,7 @@ struct LogColumns::Channel {
   Table table;
   std::unique_ptr<Table> events;
   int64_t messages = 0;
+  bool skipped = false;                     // no field of it is asked for: counted, not decoded
   std::map<std::string, int64_t> rejected;  // by reason
   bool has_layout = false;
   std::vector<std::string> fingers, joints;  // from the first row; every row must match
@@ -171,14 +177,21 @@ struct LogColumns::Channel {
 
 namespace {
 
+// The `finger` of each element (fingertip readings, finger statuses, finger primitives).
+template <typename PerFinger>
+std::vector<std::string> FingerNames(const std::vector<PerFinger>& items) {
+  std::vector<std::string> names;
+  for (const auto& item : items) names.push_back(item.finger);
+  return names;
+}
+
 template <typename Msg>
 bool Decode(Msg* m, const uint8_t* data, size_t size) {
   return size <= static_cast<size_t>(INT32_MAX) && m->decode(data, 0, static_cast<int>(size)) >= 0;
 }
 
 bool AddSensors(LogColumns::Channel* ch, const hand_sensors_t& m) {
-  std::vector<std::string> fingers;
-  for (const auto& f : m.tactile.fingers) fingers.push_back(f.finger);
+  const std::vector<std::string> fingers = FingerNames(m.tactile.fingers);
   if (!ch->SameLayout(fingers, m.joints.name)) return false;
   const size_t nf = fingers.size(), nj = m.joints.name.size();
   auto& t = ch->table;
@@ -211,8 +224,7 @@ bool AddSensors(LogColumns::Channel* ch, const hand_sensors_t& m) {
 bool AddControllerStatus(LogColumns::Channel* ch, const controller_status_t& m,
                          const std::string& dir, const std::string& name,
                          const std::regex* fields) {
-  std::vector<std::string> fingers;
-  for (const auto& f : m.fingers) fingers.push_back(f.finger);
+  const std::vector<std::string> fingers = FingerNames(m.fingers);
   if (!ch->SameLayout(fingers, {})) return false;
   const size_t nf = fingers.size();
   auto& t = ch->table;
@@ -291,8 +303,7 @@ bool AddSupervisorStatus(LogColumns::Channel* ch, const supervisor_status_t& m) 
 }
 
 bool AddTask(LogColumns::Channel* ch, const task_cmd_t& m) {
-  std::vector<std::string> fingers;
-  for (const auto& f : m.fingers) fingers.push_back(f.finger);
+  const std::vector<std::string> fingers = FingerNames(m.fingers);
   if (!ch->SameLayout(fingers, {})) return false;
   auto& t = ch->table;
   t.Put("utime", m.utime);
@@ -387,6 +398,7 @@ bool LogColumns::Add(std::string_view channel, const uint8_t* data, size_t size)
     return true;
   }
   ++ch->messages;
+  if (ch->skipped) return true;
   bool ok = false, decoded = false;
   if (ch->type == "hand_sensors_t") {
     hand_sensors_t m;
@@ -412,7 +424,20 @@ bool LogColumns::Add(std::string_view channel, const uint8_t* data, size_t size)
   }
   if (!decoded) ++ch->rejected["cannot decode as " + ch->type];
   if (!ok) ++rejected_;
+  // The first row shows which of the channel's fields are asked for; with none (nor any of its
+  // events'), the rest of its messages need no decoding.
+  if (ok && ch->table.rows() == 1 && !ch->table.HasColumns() &&
+      !(ch->type == "controller_status_t" && WantsEvents(std::string(channel)))) {
+    ch->skipped = true;
+  }
   return ok;
+}
+
+bool LogColumns::WantsEvents(const std::string& channel) const {
+  for (const char* field : {"utime", "seq", "type", "finger", "value", "text"}) {
+    if (std::regex_match(channel + "/events/" + field, fields_)) return true;
+  }
+  return false;
 }
 
 void LogColumns::Finish(const std::string& extra) {
@@ -433,7 +458,7 @@ void LogColumns::Finish(const std::string& extra) {
     reasons += "}";
     meta << (first ? "\n" : ",\n") << "    " << JsonString(name)
          << ": {\"type\": " << JsonString(ch->type) << ", \"messages\": " << ch->messages
-         << ", \"rows\": " << ch->table.rows() << ", \"rejected\": " << rejected
+         << ", \"rows\": " << (ch->skipped ? 0 : ch->table.rows()) << ", \"rejected\": " << rejected
          << ", \"rejected_by_reason\": " << reasons << ", \"fingers\": " << JsonList(ch->fingers)
          << ", \"joints\": " << JsonList(ch->joints) << ", \"strings\": " << ch->table.StringsJson()
          << ", \"events\": " << (ch->events ? std::to_string(ch->events->rows()) : "0")

@@ -9,6 +9,7 @@
 //   DIR/<CHANNEL>/<field>.npy     e.g. DMPL_SENSORS_TRUE/object_position.npy, shape (rows, 3)
 //   DIR/<CHANNEL>/events/*.npy    controller events (utime, seq, type, finger, value, text)
 //
+// A channel none of whose fields is asked for is counted but not decoded after its first message.
 // A message that cannot be decoded (random bytes, a truncated message, another type on a known
 // channel) or whose layout differs from the channel's first row (another finger count) is
 // skipped and counted with its reason; it never stops the rest.
@@ -50,6 +51,7 @@ class LogColumns {
 
  private:
   Channel* ChannelFor(std::string_view name);
+  bool WantsEvents(const std::string& channel) const;
   std::string dir_;
   std::regex channels_, fields_;
   std::map<std::string, std::unique_ptr<Channel>, std::less<>> known_;

@@ -283,7 +283,6 @@ class SummariesTest(unittest.TestCase):
             self.assertLess(size, 10e6)
         shutil.rmtree(out)
 
-
     def test_a_sweep_of_cases_writes_a_table_per_case(self):
         folder = Path(tempfile.mkdtemp(prefix="dmpl_cases_"))
         cases_file = folder / "cases.yaml"

@@ -110,5 +110,32 @@ TEST(LogColumnsTest, WritesOneRowPerMessageAndSkipsWhatItCannotDecode) {
   fs::remove_all(dir);
 }
 
+TEST(LogColumnsTest, AChannelWithNoFieldAskedForIsCountedNotDecoded) {
+  const std::string dir =
+      (fs::temp_directory_path() / ("dmpl_cols_skip_" + std::to_string(getpid()))).string();
+  {
+    LogColumns cols(dir, ".*", "^DMPL_SENSORS_TRUE/(seq)$");
+    const auto bytes = Encode(Sensors(1));
+    std::vector<uint8_t> junk(300, 0x5a);
+    for (const char* channel : {channels::kSensorsTrue, channels::kSensors}) {
+      EXPECT_TRUE(cols.Add(channel, bytes.data(), bytes.size()));
+      EXPECT_TRUE(cols.Add(channel, bytes.data(), bytes.size()));
+    }
+    // Garbage on the channel that is asked for is still caught; on the other, not decoded.
+    EXPECT_FALSE(cols.Add(channels::kSensorsTrue, junk.data(), junk.size()));
+    EXPECT_TRUE(cols.Add(channels::kSensors, junk.data(), junk.size()));
+    cols.Finish();
+  }
+  const std::string meta = ReadText(dir + "/meta.json");
+  EXPECT_NE(meta.find("\"DMPL_SENSORS\": {\"type\": \"hand_sensors_t\", \"messages\": 3, "
+                      "\"rows\": 0"),
+            std::string::npos)
+      << meta;
+  EXPECT_TRUE(fs::exists(dir + "/DMPL_SENSORS_TRUE/seq.npy"));
+  EXPECT_FALSE(fs::exists(dir + "/DMPL_SENSORS_TRUE/object_position.npy"));
+  EXPECT_FALSE(fs::exists(dir + "/DMPL_SENSORS"));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace dmpl

@@ -165,17 +165,14 @@ class LogData:
         sup = columns.table(channels.SUPERVISOR_STATUS)
         self.supervisor_fingers = list(
             columns.channels.get(channels.SUPERVISOR_STATUS, {}).get("fingers", []))
-        n = len(sup.get("utime", ()))
         self.supervisor = Series(_t(sup), {
             "grasp_state": list(sup.get("grasp_state", [])),
             "regrasp_state": list(sup.get("regrasp_state", [])),
             "roles": _get(sup, "role", (len(self.supervisor_fingers),), int).astype(int),
             "rotation_commanded": _get(sup, "rotation_commanded_rad"),
-            "rotation_goal": _get(sup, "rotation_goal_rad"),
             "regrasps": _get(sup, "regrasps", (), int),
             "finished": _get(sup, "finished", (), bool),
             "failed": _get(sup, "failed", (), bool)})
-        self.supervisor_last = {k: v[-1] for k, v in sup.items()} if n else None
 
     def _read_controller(self, columns):
         # The per-tick status when it was kept at every tick; else the 100 Hz report (the
@@ -185,7 +182,6 @@ class LogData:
         ctl = columns.table(use)
         nf = len(columns.channels.get(use, {}).get("fingers", []))
         events = columns.table(use, "events")
-        self.controller_channel = use
         self.controller = Series(_t(ctl), {
             "desired_force": _get(ctl, "desired_force", (nf,)),
             # The grip force planned per finger (adapted to the load); NaN in logs without it.
