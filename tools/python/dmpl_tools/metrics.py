@@ -30,10 +30,10 @@ import numpy as np
 
 from . import channels
 from .logdata import AXES, angle_between, cumulative_rotation
+from dmpl import sim_control_t
 
 ROLE_GRIP = 1
 ROLE_EXPLORE = 2
-SIM_RELEASE = 1  # sim_control_t.RELEASE
 
 # The fields the metrics read, per channel (None: every field); the recorder extracts these.
 COLUMNS = {
@@ -56,7 +56,7 @@ def compute(data, config):
     seqs = np.unique(data.truth_seq)
     step = data.truth_tick_step()
     summary["log_missing_ticks"] = int((seqs[-1] - seqs[0]) // step + 1 - len(seqs))
-    releases = [seq for seq, cmd, _ in data.controls if cmd == SIM_RELEASE]
+    releases = [seq for seq, cmd, _ in data.controls if cmd == sim_control_t.RELEASE]
     held_at_start = config.get("object", {}).get("held", True)
     t_release = data.time_of_seq(releases[0]) if releases else (None if held_at_start else t[0])
     summary["sim_time_s"] = float(t[-1])

@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from dmpl import controller_event_t
+
 from . import channels, experiment, metrics
 from .logdata import (AXES, LogData, LogError, cumulative_rotation, quat_conj, quat_mul,
                       rotation_vector)
@@ -30,7 +32,6 @@ FIELDS = {**metrics.COLUMNS,
           channels.SENSORS: ["utime", "seq", "object_position", "object_orientation",
                              "object_valid"],
           channels.CONTROLLER_STATUS: _CONTROLLER, channels.CONTROLLER_REPORT: _CONTROLLER}
-EVENT_SLIP = 9  # controller_event_t.SLIP
 
 ROLE_COLOURS = {1: None, 2: "#ffb74d", 0: "#cfd8dc"}  # grip: none, explore: orange, free: grey
 FINGER_COLOURS = ["#1f77b4", "#2ca02c", "#d62728", "#9467bd"]
@@ -179,7 +180,7 @@ def plot_forces(data, path):
         if len(ctl) and np.isfinite(ctl["grip_force"]).any():
             ax.plot(*thin(ctl.t, ctl["grip_force"]), ":", color="#555555", lw=0.9,
                     label="grip force planned" if f == 0 else None)
-        for k, (t_event, kind, _, _) in enumerate(e for e in ctl["events"] if e[1] == EVENT_SLIP):
+        for k, (t_event, kind, _, _) in enumerate(e for e in ctl["events"] if e[1] == controller_event_t.SLIP):
             ax.axvline(t_event, color="#d62728", lw=0.8,
                        label="slip detected" if f == 0 and k == 0 else None)
         ax.set_ylabel(f"{name} (N)")
