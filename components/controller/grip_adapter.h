@@ -76,7 +76,7 @@ class GripAdapter {
 
   // One tick. `offsets` as SlipDetector; `grip_fingers`: fingers gripping now; `holding_fingers`:
   // fingers gripping or exploring (those that hold the object between them). Returns true on
-  // the tick a new slip is detected (the scale has just been raised).
+  // the tick a new slip is detected (the scale has just been raised). Does nothing when off.
   bool Update(double time_s, const std::vector<std::optional<Eigen::Vector3d>>& offsets,
               int grip_fingers, int holding_fingers);
 

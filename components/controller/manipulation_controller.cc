@@ -295,19 +295,21 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
                                                     params_.surface_centre_offset[2]);
   }
   // The grip adapts to the load: the explorer's share and what slips taught (grip_adapter.h).
-  std::vector<std::optional<Eigen::Vector3d>> offsets(nf);
-  int holding = 0;
-  for (int f = 0; f < nf; ++f) {
-    if (in_grip[f]) offsets[f] = in.tips[f].position - tips[f];
-    const FingerState& s = fingers_[f];
-    holding += (s.task.role == Role::kGrip && s.task.primitive == Primitive::kComposite) ||
-               (s.task.role == Role::kExplore && s.task.primitive == Primitive::kHybrid);
-  }
   const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
-  if (grip_.Update(now_, offsets, grip_contacts, holding)) {
-    Emit(EventType::kSlip, -1, grip_.load_scale(),
-         "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
-             std::to_string(grip_.grip_force()) + " N");
+  if (params_.grip_adaptation.enabled) {
+    std::vector<std::optional<Eigen::Vector3d>> offsets(nf);
+    int holding = 0;
+    for (int f = 0; f < nf; ++f) {
+      if (in_grip[f]) offsets[f] = in.tips[f].position - tips[f];
+      const FingerState& s = fingers_[f];
+      holding += (s.task.role == Role::kGrip && s.task.primitive == Primitive::kComposite) ||
+                 (s.task.role == Role::kExplore && s.task.primitive == Primitive::kHybrid);
+    }
+    if (grip_.Update(now_, offsets, grip_contacts, holding)) {
+      Emit(EventType::kSlip, -1, grip_.load_scale(),
+           "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
+               std::to_string(grip_.grip_force()) + " N");
+    }
   }
   const double grip_force = grip_.grip_force();
   out_.grip_force_n = grip_force;
