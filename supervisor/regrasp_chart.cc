@@ -55,11 +55,14 @@ sc::Guard RegraspChart::NextIs(int k) {
 // The paper numbers the actions per finger: explore 4, 7, 10, 13; rotate 2, 5, 8, 11; grip 3, 6,
 // 9, 12 for the fingers in exploring order R, M, F, T (S2..S5).
 sc::Action RegraspChart::ExploreAction(int number, int k) {
-  const std::string name = "A" + std::to_string(number) + " " + order_[k] + " explore";
-  return sc::Action(name, [this, k, name] {
+  std::string name = "A" + std::to_string(number) + " " + order_[k] + " explore";
+  const bool overlap = turn_ == Turn::kContinuous;
+  if (overlap) name += " + A" + std::to_string(number - 2) + " " + Grippers(k) + " rotate";
+  return sc::Action(name, [this, k, name, overlap] {
     last_action_ = name;
     phase_ = Phase::kExploring;
     actions_->Explore(order_[k]);
+    if (overlap) actions_->Rotate(Grippers(k));
   });
 }
 
@@ -123,7 +126,8 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
     const E after = four ? E::RotateDone : E::GripStable;
     rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
     rows.push_back({S::S1, after, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    if (four) {
+    if (four || turn_ == Turn::kContinuous) {
+      // Four: the explorer is at its point; continuous: and the step's turn is done too.
       rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
     } else {
       rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});

@@ -8,7 +8,9 @@
 // other three turn the object under it (A2/A5/A8/A11). kFourFingers uses only rows the paper also
 // has: the explorer moves while three hold the object still, grips again (back in S1), and then
 // all four turn it (A1). Four contacts around the object keep its position under control while it
-// turns; three leave a half-circle open on the explorer's side.
+// turns; three leave a half-circle open on the explorer's side. kContinuous overlaps the paper's
+// two phases: the three grippers turn the object while the explorer slides back (A4 and A2 at
+// once), so the object never waits for an explorer; the explorer grips again when both are done.
 #include <string>
 #include <vector>
 
@@ -44,7 +46,7 @@ class RegraspActions {
 class RegraspChart {
  public:
   // `order`: the exploring order (each a finger name; four of them, S2..S5 = order[0..3]).
-  enum class Turn { kThreeFingers, kFourFingers };
+  enum class Turn { kThreeFingers, kFourFingers, kContinuous };
   RegraspChart(RegraspActions* actions, std::vector<std::string> order,
                Turn turn = Turn::kThreeFingers);
 

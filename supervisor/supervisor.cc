@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "components/runtime/check.h"
 
@@ -43,22 +45,48 @@ const char* ToString(GraspEvent e) {
   return "?";
 }
 
+namespace {
+std::string Fixed(double value, int digits = 2) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << value;
+  return os.str();
+}
+
+RegraspChart::Turn TurnOf(const std::string& turn) {
+  if (turn == "three") return RegraspChart::Turn::kThreeFingers;
+  if (turn == "four") return RegraspChart::Turn::kFourFingers;
+  return RegraspChart::Turn::kContinuous;
+}
+}  // namespace
+
 void TaskParams::Validate(const std::string& source) const {
   auto fail = [&](const std::string& key, const std::string& what) {
     throw ConfigError("config error in " + source + ": key 'task." + key + "': " + what);
   };
-  if (axis != "x" && axis != "y" && axis != "z") fail("axis", "must be x, y or z");
   if (!std::isfinite(angle)) fail("angle", "must be finite");
   if (!(step > 0) || step > 1.0) fail("step", "must be in (0, 1] rad");
-  if (turn != "three" && turn != "four") fail("turn", "must be 'four' or 'three' (the paper's)");
+  if (turn != "three" && turn != "four" && turn != "continuous") {
+    fail("turn", "must be 'continuous', 'four' or 'three' (the paper's)");
+  }
   if (!(angular_speed > 0)) fail("angular_speed", "must be > 0");
   if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
   if (explore_travel < 0) fail("explore_travel", "must be >= 0");
+  if (random_goals < 0 || random_goals > 100000) fail("random_goals", "must be in [0, 100000]");
+  if (!(random_goal_separation_rad >= 0) || random_goal_separation_rad > 3.0) {
+    fail("random_goal_separation_rad", "must be in [0, 3] rad (further apart is rare)");
+  }
+  if (!(goal_tolerance_rad > 0) || goal_tolerance_rad > M_PI) {
+    fail("goal_tolerance_rad", "must be in (0, pi]");
+  }
+  if (!(goal_hold_s >= 0)) fail("goal_hold_s", "must be >= 0");
 }
 
+bool TaskParams::has_goals() const { return !goals.empty() || random_goals > 0; }
+
 Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
-                       SupervisorParams params)
-    : fingers_(std::move(fingers)),
+                       SupervisorParams params, uint64_t seed)
+    : seed_(seed),
+      fingers_(std::move(fingers)),
       tasks_(std::move(tasks)),
       task_params_(std::move(task_params)),
       params_(std::move(params)),
@@ -68,9 +96,7 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
       ptask_index_(fingers_.size(), 0),
       ptask_since_(fingers_.size(), 0.0),
       home_(fingers_.size(), Eigen::Vector3d::Zero()),
-      regrasp_(this, tasks_.gait.order,
-               task_params_.turn == "three" ? RegraspChart::Turn::kThreeFingers
-                                            : RegraspChart::Turn::kFourFingers),
+      regrasp_(this, tasks_.gait.order, TurnOf(task_params_.turn)),
       grasp_(BuildGraspChart()) {
   DMPL_DEMAND(fingers_.size() == 4);
   out_.task.fingers.resize(fingers_.size());
@@ -194,7 +220,7 @@ void Supervisor::HoldObjectWhereItIs() {
   // The remaining commanded rotation that did not happen is taken back from the account.
   if (has_goal_) {
     const Eigen::AngleAxisd diff(goal_.linear() * view_.object.linear().transpose());
-    rotation_commanded_ -= diff.angle() * diff.axis().dot(Axis(task_params_.axis));
+    rotation_commanded_ -= diff.angle() * diff.axis().dot(Axis("task"));
   }
   goal_ = view_.object;
   has_goal_ = true;
@@ -203,16 +229,33 @@ void Supervisor::HoldObjectWhereItIs() {
 }
 
 Eigen::Vector3d Supervisor::Axis(const std::string& name) const {
-  const std::string& a = name == "task" ? task_params_.axis : name;
-  if (a == "y") return Eigen::Vector3d::UnitY();
-  if (a == "z") return Eigen::Vector3d::UnitZ();
+  if (name == "task") return task_params_.axis.direction;
+  if (name == "y") return Eigen::Vector3d::UnitY();
+  if (name == "z") return Eigen::Vector3d::UnitZ();
   return Eigen::Vector3d::UnitX();
+}
+
+Eigen::Quaterniond Supervisor::SensedOrientation() const {
+  return Eigen::Quaterniond(view_.object.linear()).normalized();
+}
+
+void Supervisor::StartGoals() {
+  std::vector<Eigen::Quaterniond> goals;
+  for (const OrientationParam& g : task_params_.goals) goals.push_back(g.q);
+  const Eigen::Quaterniond from = goals.empty() ? SensedOrientation() : goals.back();
+  for (const auto& q : RandomGoals(seed_, task_params_.random_goals,
+                                   task_params_.random_goal_separation_rad, from)) {
+    goals.push_back(q);
+  }
+  goals_ = GoalSequence(std::move(goals), task_params_.goal_tolerance_rad,
+                        task_params_.goal_hold_s, task_params_.goal_timeout_s);
+  goals_.Start(now_);
 }
 
 void Supervisor::RotateGoal(const Eigen::Vector3d& axis, double angle) {
   goal_.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * goal_.linear();
   has_goal_ = true;
-  rotation_commanded_ += angle * axis.dot(Axis(task_params_.axis));
+  rotation_commanded_ += angle * axis.dot(Axis("task"));
   out_.task.has_object_target = true;
   out_.task.object_target = goal_;
   out_.task.max_angular_speed = task_params_.angular_speed;
@@ -251,6 +294,7 @@ void Supervisor::StartTask(int index) {
   if (task.type == "gait") {
     AllGrip();
     rotation_goal_ = rotation_commanded_ + task_params_.angle;
+    if (task_params_.has_goals()) StartGoals();
     gait_done_ = false;
     explorer_ = -1;
     phase_since_ = now_;
@@ -355,12 +399,16 @@ void Supervisor::Explore(const std::string& finger) {
   // Back against the rotation to where the finger can follow the steps it turns with until it
   // explores again (all of them, or all but its own): half of them behind its home, half ahead, so
   // it never drifts to its joint limits.
-  const double sign = task_params_.angle >= 0 ? 1.0 : -1.0;
+  // Toward a goal orientation the steps turn about the axis to it (positive angles).
+  const bool to_goal = task_params_.has_goals();
+  const double sign = to_goal || task_params_.angle >= 0 ? 1.0 : -1.0;
+  const Eigen::Vector3d axis =
+      to_goal ? RotationToGoal(SensedOrientation(), goals_.current()).axis : Axis("task");
   const double n = static_cast<double>(fingers_.size());
   const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers;
   const double rides = four ? n : n - 1;
   const double back = -sign * task_params_.explore_travel * rides * task_params_.step / 2.0;
-  const Eigen::AngleAxisd turn(back, Axis(task_params_.axis));
+  const Eigen::AngleAxisd turn(back, axis);
   explore_target_ = view_.object.translation() + turn * (home_[f] - home_centre_);
   NewTask(regrasp_.last_action());
   for (size_t k = 0; k < fingers_.size(); ++k) {
@@ -378,9 +426,23 @@ void Supervisor::Rotate(const std::string& grippers) {
   (void)grippers;  // the explorer, if any, keeps exploring in place; the others grip
   phase_since_ = now_;
   NewTask(regrasp_.last_action());
+  if (task_params_.has_goals()) {
+    // One step from where the object is toward the current goal, the shortest way.
+    const AxisAngle to_goal = RotationToGoal(SensedOrientation(), goals_.current());
+    step_ = std::min(task_params_.step, to_goal.angle);
+    goal_.linear() =
+        (Eigen::AngleAxisd(step_, to_goal.axis) * SensedOrientation()).toRotationMatrix();
+    has_goal_ = true;
+    rotation_commanded_ += step_;
+    out_.task.has_object_target = true;
+    out_.task.object_target = goal_;
+    out_.task.max_angular_speed = task_params_.angular_speed;
+    motion_done_event_ = false;
+    return;
+  }
   const double remaining = rotation_goal_ - rotation_commanded_;
   step_ = std::copysign(std::min(task_params_.step, std::abs(remaining)), remaining);
-  RotateGoal(Axis(task_params_.axis), step_);
+  RotateGoal(Axis("task"), step_);
 }
 
 void Supervisor::Grip(const std::string& finger) {
@@ -393,6 +455,7 @@ void Supervisor::Grip(const std::string& finger) {
 void Supervisor::Finish() { gait_done_ = true; }
 
 bool Supervisor::GoalReached() const {
+  if (task_params_.has_goals()) return goals_.complete();
   return std::abs(rotation_goal_ - rotation_commanded_) < 1e-9;
 }
 
@@ -495,22 +558,52 @@ void Supervisor::TickLocalTask() {
   }
 }
 
+bool Supervisor::StepDone(double in_phase) const {
+  // The reference needs |step| / speed to arrive; after that and a moment to settle, an object
+  // close enough to its goal has done its step.
+  const GaitSpec& g = tasks_.gait;
+  const double travel = std::abs(step_) / task_params_.angular_speed;
+  const bool settled = in_phase > travel + g.settle_time_s &&
+                       view_.tracking_error_rad < g.settle_tolerance_rad;
+  return motion_done_event_ || view_.motion_done || settled;
+}
+
+void Supervisor::TickGoals() {
+  switch (goals_.Update(now_, SensedOrientation())) {
+    case GoalSequence::Event::kReached:
+      Note("goal " + std::to_string(goals_.reached()) + " of " + std::to_string(goals_.size()) +
+           " reached in " + Fixed(goals_.times_s().back()) + " s");
+      if (goals_.complete()) gait_done_ = true;
+      break;
+    case GoalSequence::Event::kTimedOut:
+      note_ = "goal " + std::to_string(goals_.reached() + 1) + " not reached within " +
+              Fixed(task_params_.goal_timeout_s, 1) + " s (" + Fixed(goals_.error_rad()) +
+              " rad from it)";
+      grasp_.Process(GraspEvent::TaskFailed);
+      break;
+    case GoalSequence::Event::kNone:
+      break;
+  }
+}
+
 void Supervisor::TickGait() {
   const GaitSpec& g = tasks_.gait;
   const double in_phase = now_ - phase_since_;
+  if (task_params_.has_goals()) {
+    TickGoals();
+    if (!grasp_.is(GraspState::Tasks)) return;
+  }
   if (regrasp_.exploring()) {
     const bool there = explorer_ >= 0 && reached_[explorer_] && view_.fingers[explorer_].in_contact;
-    if (there || in_phase > g.explore_timeout_s) {
+    // Continuous: the three turn the object while the explorer slides; both must be done.
+    const bool turned = regrasp_.turn() != RegraspChart::Turn::kContinuous || StepDone(in_phase);
+    if ((there && turned) || in_phase > g.explore_timeout_s) {
       if (!there) Note("explorer " + fingers_[explorer_] + " did not reach its point in time");
+      if (!turned) Note("the step did not finish while the explorer slid");
       regrasp_.Process(RegraspEvent::ExploreReady);
     }
   } else if (regrasp_.rotating()) {
-    // The reference needs |step| / speed to arrive; after that and a moment to settle, an object
-    // close enough to its goal has done its step.
-    const double travel = std::abs(step_) / task_params_.angular_speed;
-    const bool settled = in_phase > travel + g.settle_time_s &&
-                         view_.tracking_error_rad < g.settle_tolerance_rad;
-    if (motion_done_event_ || view_.motion_done || settled) {
+    if (StepDone(in_phase)) {
       if (!(motion_done_event_ || view_.motion_done)) {
         Note("step settled " + std::to_string(view_.tracking_error_rad) + " rad short");
       }

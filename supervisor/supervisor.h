@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "supervisor/goal_planner.h"
 #include "supervisor/regrasp_chart.h"
 #include "supervisor/statechart.h"
 #include "supervisor/supervisor_params.h"
@@ -56,8 +57,9 @@ struct SupervisorOutput {
 
 class Supervisor : private RegraspActions {
  public:
+  // `seed`: the run's seed (random goals).
   Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
-             SupervisorParams params);
+             SupervisorParams params, uint64_t seed = 1);
 
   const SupervisorOutput& Step(const ControllerView& view);
   // From the heartbeat monitor: a required process went silent (lost) or is back.
@@ -72,6 +74,8 @@ class Supervisor : private RegraspActions {
   std::vector<Role> roles() const;
   double rotation_commanded() const { return rotation_commanded_; }
   double rotation_goal() const { return rotation_goal_; }
+  // The goal orientations of a gait (task.goals, task.random_goals); empty without.
+  const GoalSequence& goals() const { return goals_; }
   int recoveries() const { return recoveries_; }
   bool holding() const { return grasp_.is(GraspState::Holding); }
   bool finished() const { return grasp_.is(GraspState::Done); }
@@ -103,7 +107,9 @@ class Supervisor : private RegraspActions {
   void AllGrip();
   void HoldObjectWhereItIs();
   void RotateGoal(const Eigen::Vector3d& axis, double angle);
-  Eigen::Vector3d Axis(const std::string& name) const;
+  Eigen::Vector3d Axis(const std::string& name) const;  // x, y, z or "task" (task.axis)
+  Eigen::Quaterniond SensedOrientation() const;
+  void StartGoals();
   int Finger(const std::string& name) const;
 
   // Grasp chart actions.
@@ -118,9 +124,12 @@ class Supervisor : private RegraspActions {
   void TickApproach();
   void TickLocalTask();
   void TickGait();
+  void TickGoals();
+  bool StepDone(double in_phase) const;
   bool ConditionHolds(Condition c, int finger) const;
   void Note(const std::string& text);
 
+  uint64_t seed_;
   std::vector<std::string> fingers_;
   TaskFile tasks_;
   TaskParams task_params_;
@@ -158,6 +167,7 @@ class Supervisor : private RegraspActions {
   double step_ = 0.0;  // the rotation step under way
   Eigen::Vector3d explore_target_ = Eigen::Vector3d::Zero();
   bool gait_done_ = false;
+  GoalSequence goals_;
 
   // Contingencies.
   int recoveries_ = 0;

@@ -30,7 +30,8 @@ class SupervisorNode : public Node {
       : Node(ctx.name, ctx.bus),
         params_(params),
         fingers_(fingers),
-        core_(fingers, std::move(tasks), task_params, params) {
+        core_(fingers, std::move(tasks), task_params, params,
+              static_cast<uint64_t>(ctx.run.seed)) {
     listen(channels::kControllerReport).subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
     listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
     AddTimer(0.2, [this] { CheckHeartbeats(); });
@@ -81,9 +82,13 @@ class SupervisorNode : public Node {
     view.grasp_stable = m->grasp_stable;
     view.tracking_error_rad = m->tracking_error_rad;
     const size_t logged = core_.transitions().size();
+    const int goals_before = core_.goals().reached();
     const SupervisorOutput& out = core_.Step(view);
     for (size_t i = logged; i < core_.transitions().size(); ++i) {
       log().info("t = {:.3f} s: {}", view.time_s, core_.transitions()[i]);
+    }
+    if (core_.goals().reached() != goals_before) {
+      log().info("t = {:.3f} s: {}", view.time_s, core_.note());
     }
     if (out.sim != SimRequest::kNone) {
       sim_control_t c{};
@@ -157,6 +162,17 @@ class SupervisorNode : public Node {
     s.finished = core_.finished();
     s.failed = core_.failed();
     s.note = core_.note();
+    const GoalSequence& goals = core_.goals();
+    s.num_goals = goals.size();
+    s.goals_reached = goals.reached();
+    s.has_orientation_goal = !goals.empty();
+    const Eigen::Quaterniond q =
+        goals.empty() ? Eigen::Quaterniond::Identity() : goals.current();
+    s.orientation_goal[0] = q.w();
+    s.orientation_goal[1] = q.x();
+    s.orientation_goal[2] = q.y();
+    s.orientation_goal[3] = q.z();
+    s.goal_error_rad = goals.error_rad();
     lcm(channels::kSupervisorStatus).publish(channels::kSupervisorStatus, &s);
   }
 
@@ -209,7 +225,7 @@ int main(int argc, char** argv) {
     if (!dot && !mermaid) continue;
     // The grasp chart, then the regrasp chart for each way of turning (task.turn).
     const std::vector<std::string> fingers = {"T", "F", "M", "R"};
-    for (const char* turn : {"three", "four"}) {
+    for (const char* turn : {"three", "four", "continuous"}) {
       dmpl::TaskParams task;
       task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
       task.turn = turn;

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "components/runtime/params.h"
+#include "supervisor/goal_planner.h"
 
 namespace dmpl {
 
@@ -10,12 +11,23 @@ namespace dmpl {
 // `--set task.axis=y` or `--set task.angle=3.14` change an experiment without editing files.
 struct TaskParams {
   std::string file = "configs/tasks/fig8_rotate.yaml";  // relative paths: from $DMPL_ROOT
-  std::string axis = "x";               // rotation axis in the palm frame: x, y or z
+  AxisParam axis;                       // rotation axis in the palm frame: x, y, z or [ax, ay, az]
   double angle = 0.2;                   // rad: the task's angle (local rotation, or the gait's goal)
+  // Goal orientations (palm frame) a gait reaches one after another instead of turning `angle`
+  // about `axis`: each [w, x, y, z] or {rpy: [r, p, y]}; then random_goals more, drawn from
+  // run.seed, each at least random_goal_separation_rad from the one before. A goal counts
+  // reached when the sensed orientation stays within goal_tolerance_rad for goal_hold_s; one not
+  // reached within goal_timeout_s (<= 0: no limit) ends the gait as failed.
+  std::vector<OrientationParam> goals;
+  int random_goals = 0;
+  double random_goal_separation_rad = 1.5707963267948966;
+  double goal_tolerance_rad = 0.4;
+  double goal_hold_s = 0.5;
+  double goal_timeout_s = 30.0;
   double step = 0.17453292519943295;    // rad: one gait step (the paper's 10 deg)
-  // Who turns the object in a gait: "three" (the paper's A2..A11: three turn while the explorer
-  // slides) or "four" (the explorer moves while three hold still, grips again, then all four
-  // turn: A1). See RegraspChart.
+  // Who turns the object in a gait: "three" (the paper's A2..A11: the explorer reaches its point,
+  // then three turn), "four" (the explorer moves while three hold still, grips again, then all
+  // four turn: A1) or "continuous" (three turn while the explorer slides). See RegraspChart.
   std::string turn = "three";
   double angular_speed = 0.25;          // rad/s of the object reference
   double explore_force_n = 0.1;         // the exploration finger's force (the paper's 0.1 N)
@@ -26,6 +38,12 @@ struct TaskParams {
     a->Visit(DMPL_NVP(file));
     a->Visit(DMPL_NVP(axis));
     a->Visit(DMPL_NVP(angle));
+    a->Visit(DMPL_NVP(goals));
+    a->Visit(DMPL_NVP(random_goals));
+    a->Visit(DMPL_NVP(random_goal_separation_rad));
+    a->Visit(DMPL_NVP(goal_tolerance_rad));
+    a->Visit(DMPL_NVP(goal_hold_s));
+    a->Visit(DMPL_NVP(goal_timeout_s));
     a->Visit(DMPL_NVP(step));
     a->Visit(DMPL_NVP(turn));
     a->Visit(DMPL_NVP(angular_speed));
@@ -33,6 +51,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explore_travel));
   }
   void Validate(const std::string& source) const;
+  bool has_goals() const;  // a gait toward goal orientations
 };
 
 // Section `supervisor`: how to watch over it.

@@ -298,6 +298,11 @@ bool AddSupervisorStatus(LogColumns::Channel* ch, const supervisor_status_t& m) 
   t.PutBool("finished", m.finished);
   t.PutBool("failed", m.failed);
   t.PutString("note", m.note);
+  t.Put("num_goals", m.num_goals);
+  t.Put("goals_reached", m.goals_reached);
+  t.PutBool("has_orientation_goal", m.has_orientation_goal);
+  t.PutArray("orientation_goal", m.orientation_goal, {4});
+  t.Put("goal_error_rad", m.goal_error_rad);
   t.EndRow();
   return true;
 }

@@ -63,6 +63,15 @@ template <typename T>
 struct IsStringMap : std::false_type {};
 template <typename T>
 struct IsStringMap<std::map<std::string, T>> : std::true_type {};
+// A value type that reads itself from any YAML node (a scalar or a list, say):
+// `static T FromYaml(const YAML::Node&)` throwing std::invalid_argument with what is wrong, and
+// `YAML::Node ToYaml() const`.
+template <typename T, typename = void>
+struct HasYamlConversion : std::false_type {};
+template <typename T>
+struct HasYamlConversion<T, std::void_t<decltype(T::FromYaml(std::declval<const YAML::Node&>())),
+                                        decltype(std::declval<const T&>().ToYaml())>>
+    : std::true_type {};
 }  // namespace internal
 
 // Reads a struct from a YAML map.
@@ -110,7 +119,13 @@ class YamlReadArchive {
 
   template <typename T>
   void Read(const YAML::Node& n, const std::string& path, T* v) const {
-    if constexpr (internal::IsSerializable<T>::value) {
+    if constexpr (internal::HasYamlConversion<T>::value) {
+      try {
+        *v = T::FromYaml(n);
+      } catch (const std::invalid_argument& e) {
+        Fail(n, path, e.what());
+      }
+    } else if constexpr (internal::IsSerializable<T>::value) {
       YamlReadArchive sub(n, source_, path);
       sub.ExpectMap(n, path);
       v->Serialize(&sub);
@@ -168,7 +183,9 @@ class YamlWriteArchive {
  private:
   template <typename T>
   static YAML::Node ToNode(const T& v) {
-    if constexpr (internal::IsSerializable<T>::value) {
+    if constexpr (internal::HasYamlConversion<T>::value) {
+      return v.ToYaml();
+    } else if constexpr (internal::IsSerializable<T>::value) {
       return Save(v);
     } else if constexpr (internal::IsOptional<T>::value) {
       return v ? ToNode(*v) : YAML::Node();

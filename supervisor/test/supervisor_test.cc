@@ -223,7 +223,10 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
   EXPECT_NE(error([](TaskParams* t) { t->turn = "two"; }).find("key 'task.turn'"),
             std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->step = 0; }).find("key 'task.step'"), std::string::npos);
-  EXPECT_NE(error([](TaskParams* t) { t->axis = "w"; }).find("exp.yaml"), std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->goal_tolerance_rad = 0; }).find("task.goal_tolerance_rad"),
+            std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->random_goal_separation_rad = 3.1; }).find("exp.yaml"),
+            std::string::npos);
   EXPECT_EQ(error([](TaskParams*) {}), "");
 }
 

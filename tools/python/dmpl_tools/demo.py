@@ -19,10 +19,11 @@ from .run import cpu_list, loop_layout, print_headline, run_experiment
 
 
 class Progress:
-    """Prints the supervisor's state and the commanded rotation while the run goes."""
+    """Prints the supervisor's state and the commanded rotation (or the goals reached and the
+    angle to the current one) while the run goes."""
 
-    def __init__(self, stream=sys.stderr, period_s=1.0):
-        self.stream, self.period = stream, period_s
+    def __init__(self, stream=sys.stderr, period_s=1.0, name="demo"):
+        self.stream, self.period, self.name = stream, period_s, name
         self.last = None
         self.stop = threading.Event()
         self.thread = None
@@ -42,13 +43,21 @@ class Progress:
             self.stop.wait(0.1)
             self.buses.handle(0)
             if time.monotonic() >= next_print and self.last is not None:
-                s = self.last
-                goal = f" of {s.rotation_goal_rad:.2f}" if s.rotation_goal_rad else ""
-                self.stream.write(f"\r[demo] sim {s.utime * 1e-6:6.2f} s  {s.grasp_state:<11} "
-                                  f"{s.regrasp_state} {s.last_action:<16.16} rotation "
-                                  f"{s.rotation_commanded_rad:+.2f}{goal} rad  regrasps {s.regrasps}  ")
+                self.stream.write(f"\r[{self.name}] {self.line(self.last)}  ")
                 self.stream.flush()
                 next_print += self.period
+
+    @staticmethod
+    def line(s):
+        """One status line: state, action, and the rotation so far or the goals reached."""
+        head = f"sim {s.utime * 1e-6:6.2f} s  {s.grasp_state:<11} {s.regrasp_state} " \
+               f"{s.last_action:<16.16} "
+        if s.num_goals:
+            return head + (f"goals {s.goals_reached}/{s.num_goals}  error "
+                           f"{s.goal_error_rad:.2f} rad  regrasps {s.regrasps}")
+        goal = f" of {s.rotation_goal_rad:.2f}" if s.rotation_goal_rad else ""
+        return head + (f"rotation {s.rotation_commanded_rad:+.2f}{goal} rad  "
+                       f"regrasps {s.regrasps}")
 
     def done(self):
         self.stop.set()

@@ -22,6 +22,7 @@ METRICS_DEFAULTS = {
     "drop_no_contact_s": 0.25,  # ...or no fingertip touched it for this long
     "allow_drop": False,        # the run's status ignores a drop (drop.yaml)
     "contact_loss_s": 0.05,     # a grip contact gone this long counts as lost
+    "rate_goal_tolerance_rad": 0.05,  # rotation_rate_rad_s: the turn is done this close to it
 }
 
 

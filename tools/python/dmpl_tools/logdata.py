@@ -172,7 +172,12 @@ class LogData:
             "rotation_commanded": _get(sup, "rotation_commanded_rad"),
             "regrasps": _get(sup, "regrasps", (), int),
             "finished": _get(sup, "finished", (), bool),
-            "failed": _get(sup, "failed", (), bool)})
+            "failed": _get(sup, "failed", (), bool),
+            "last_action": list(sup.get("last_action", [""] * len(_t(sup)))),
+            "goals_reached": _get(sup, "goals_reached", (), int),
+            "has_orientation_goal": _get(sup, "has_orientation_goal", (), bool),
+            "orientation_goal": _get(sup, "orientation_goal", (4,)),
+            "goal_error": _get(sup, "goal_error_rad")})
 
     def _read_controller(self, columns):
         # The per-tick status when it was kept at every tick; else the 100 Hz report (the
@@ -237,6 +242,22 @@ def angle_between(q1, q2):
 
 
 AXES = {"x": np.array([1.0, 0, 0]), "y": np.array([0, 1.0, 0]), "z": np.array([0, 0, 1.0])}
+
+
+def task_axis(config):
+    """task.axis of a config (x, y, z or a vector) -> (label, unit vector); x when unreadable
+    (the supervisor has already rejected a bad one)."""
+    value = (config or {}).get("task", {}).get("axis", "x")
+    if isinstance(value, str):
+        return (value, AXES[value]) if value in AXES else ("x", AXES["x"])
+    try:
+        v = np.asarray(value, dtype=float).reshape(3)
+    except (TypeError, ValueError):
+        return "x", AXES["x"]
+    n = np.linalg.norm(v)
+    if not np.isfinite(n) or n < 1e-6:
+        return "x", AXES["x"]
+    return "[" + ", ".join(f"{x:.3g}" for x in v / n) + "]", v / n
 
 
 def cumulative_rotation(quats, axis):

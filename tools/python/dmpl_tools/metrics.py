@@ -25,11 +25,18 @@ Definitions (the run's config section `metrics` sets the thresholds):
 - grip_force_rms_error_n: RMS of the grip fingers' truth force against the force asked of them.
 - contacts_lost: grip fingers (per the supervisor's roles; every finger without a supervisor)
   whose contact disappears for longer than contact_loss_s while the object is held.
+- rotation_rate_rad_s (gait runs): turning about task.axis, the truth rotation from the first
+  rotation step the supervisor commands until the object first comes within
+  rate_goal_tolerance_rad of task.angle (the end of the run if it never does), divided by that
+  time; toward goal orientations, the angles from where the object was when each reached goal
+  became current to that goal, summed, over the time those goals took.
+- goals_reached (runs with task.goals or task.random_goals): goals reached one after another;
+  time_per_goal_median_s / _p90_s: the time each took, from when it became current.
 """
 import numpy as np
 
 from . import channels
-from .logdata import AXES, angle_between, cumulative_rotation
+from .logdata import angle_between, cumulative_rotation, task_axis
 from dmpl import sim_control_t
 
 ROLE_GRIP = 1
@@ -61,8 +68,7 @@ def compute(data, config):
     t_release = data.time_of_seq(releases[0]) if releases else (None if held_at_start else t[0])
     summary["sim_time_s"] = float(t[-1])
     summary["released_at_s"] = t_release
-    axis_name = str(config.get("task", {}).get("axis", "x"))
-    axis = AXES.get(axis_name, AXES["x"])
+    _, axis = task_axis(config)
 
     if t_release is None:
         # Still a verdict: a supervisor that gave up before the release failed the run.
@@ -119,6 +125,8 @@ def compute(data, config):
         summary["rotation_commanded_rad"] = float(sup["rotation_commanded"][-1])
         summary["max_tracking_error_rad"] = _tracking_error(data, t, rotation, i_begin)
         summary.update(_supervisor_verdict(sup))
+        summary.update(_gait_rate(data, config, t[i_begin:], rotation))
+        summary.update(_goals(data, t_begin))
         summary.update(_exploration(data, t_begin))
         summary.update(_grip_force_error(data, t_begin))
     else:
@@ -130,6 +138,60 @@ def compute(data, config):
         if last["last_fault"]:
             summary["last_fault"] = str(last["last_fault"])
     return summary
+
+
+def _first_rotation_time(sup):
+    for t, action in zip(sup.t, sup["last_action"]):
+        if "rotate" in action:
+            return float(t)
+    return None
+
+
+def _gait_rate(data, config, t, rotation):
+    """rotation_rate_rad_s about task.axis (see above); nothing for runs that are no gait."""
+    sup = data.supervisor
+    if not any(a.startswith(("A", "finish")) for a in sup["last_action"]) or len(rotation) == 0:
+        return {}
+    if sup["has_orientation_goal"].any():
+        return {}  # a goal run has its own rate (_goals)
+    t0 = _first_rotation_time(sup)
+    if t0 is None:
+        return {}
+    goal = float(config.get("task", {}).get("angle", 0.0))
+    tol = config["metrics"]["rate_goal_tolerance_rad"]
+    signed = rotation * (1.0 if goal >= 0 else -1.0)
+    there = np.nonzero(signed >= abs(goal) - tol)[0]
+    i_end = int(there[0]) if len(there) else len(t) - 1
+    i0 = min(int(np.searchsorted(t, t0)), i_end)
+    duration = t[i_end] - t[i0]
+    if duration <= 0:
+        return {}
+    return {"rotation_rate_rad_s": float((signed[i_end] - signed[i0]) / duration)}
+
+
+def _goals(data, t_begin):
+    """goals_reached, time per goal and the rate toward the goals (see above)."""
+    sup = data.supervisor
+    has = sup["has_orientation_goal"]
+    if not has.any():
+        return {}
+    reached = sup["goals_reached"]
+    out = {"goals_reached": int(reached[-1])}
+    # When each goal was reached, and the goal that was current until then.
+    steps = np.nonzero(np.diff(reached) > 0)[0] + 1
+    times = np.concatenate([[t_begin], sup.t[steps]])
+    durations = np.diff(times)
+    if len(durations):
+        out["time_per_goal_median_s"] = float(np.median(durations))
+        out["time_per_goal_p90_s"] = float(np.percentile(durations, 90))
+        obj = data.object
+        angle = 0.0
+        for k, i in enumerate(steps):
+            j = min(int(np.searchsorted(obj.t, times[k])), len(obj) - 1)
+            goal = sup["orientation_goal"][i - 1]
+            angle += float(angle_between(obj["orientation"][j][None], goal[None])[0])
+        out["rotation_rate_rad_s"] = angle / float(durations.sum())
+    return out
 
 
 def _supervisor_verdict(sup):

@@ -5,6 +5,7 @@
   fig9_exploration.png    exploring fingers' force against the force asked of them
   fig10_forces.png        contact forces of all four fingers, the finger roles shaded
   statechart.png          the grasp and regrasp statecharts' states over time
+  goals.png               with goal orientations: the angle to the current goal, goals reached
   report.md               the headline numbers and the figures
 
 The summary comes from DIR/summary.json when the log belongs to a run directory, else it is
@@ -22,8 +23,8 @@ import numpy as np
 from dmpl import controller_event_t
 
 from . import channels, experiment, metrics
-from .logdata import (AXES, LogData, LogError, cumulative_rotation, quat_conj, quat_mul,
-                      rotation_vector)
+from .logdata import (LogData, LogError, angle_between, cumulative_rotation, quat_conj,
+                      quat_mul, rotation_vector, task_axis)
 
 # What the plots read: the metrics' columns, the sensed object pose, the planned grip force and
 # the controller's events (slips).
@@ -77,9 +78,34 @@ def _commanded_rotation(data, axis, t):
     return out
 
 
-def plot_orientation(data, axis_name, path):
+def plot_goals(data, tolerance, path):
+    """The true orientation's angle to the current goal, each reached goal marked."""
     plt = _plt()
-    axis = AXES[axis_name]
+    sup, o = data.supervisor, data.object
+    sel = sup["has_orientation_goal"]
+    idx = np.clip(np.searchsorted(sup.t, o.t, side="right") - 1, 0, len(sup) - 1)
+    active = sel[idx] & (o.t >= sup.t[sel][0])
+    error = np.full(len(o.t), np.nan)
+    error[active] = angle_between(sup["orientation_goal"][idx][active], o["orientation"][active])
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    ax.plot(*thin(o.t, error), color="#d62728", label="angle to the current goal (truth)")
+    reached = np.nonzero(np.diff(sup["goals_reached"]) > 0)[0] + 1
+    for k, i in enumerate(reached):
+        ax.axvline(sup.t[i], color="#2ca02c", alpha=0.5, lw=1,
+                   label="goal reached" if k == 0 else None)
+    ax.axhline(tolerance, color="#7f7f7f", ls=":", label=f"tolerance {tolerance:.2g} rad")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("angle to goal (rad)")
+    ax.set_title(f"Goal orientations: {int(sup['goals_reached'][-1])} reached")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_orientation(data, axis_name, axis, path):
+    plt = _plt()
     o = data.object
     rot = cumulative_rotation(o["orientation"], axis)
     fig, ax = plt.subplots(figsize=(8, 3.5))
@@ -226,11 +252,14 @@ FIGURES = [("fig8a_orientation.png", "Object orientation against its target (Fig
            ("fig9_exploration.png", "Exploration finger force (Fig. 9)"),
            ("fig10_forces.png", "Contact forces with the finger roles shaded (Fig. 10)"),
            ("statechart.png", "Statechart states over time")]
+GOALS_FIGURE = ("goals.png", "Angle to the current goal orientation, goals reached marked")
 
 HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
             "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
             "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
-            "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n"]
+            "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n",
+            "rotation_rate_rad_s", "goals_reached", "time_per_goal_median_s",
+            "time_per_goal_p90_s"]
 
 
 def make_report(log_path, out_dir=None, summary=None, config=None):
@@ -253,8 +282,12 @@ def make_report(log_path, out_dir=None, summary=None, config=None):
     if data.problems:  # what this pass over the log could not read (beside the run's own)
         summary = dict(summary, warnings=[*summary.get("warnings", []),
                                           *(f"reading the log: {p}" for p in data.problems)])
-    axis = str(config.get("task", {}).get("axis", "x"))
-    plot_orientation(data, axis if axis in AXES else "x", out / FIGURES[0][0])
+    plot_orientation(data, *task_axis(config), out / FIGURES[0][0])
+    figures = list(FIGURES)
+    if len(data.supervisor) and data.supervisor["has_orientation_goal"].any():
+        tolerance = float(config.get("task", {}).get("goal_tolerance_rad", 0.4))
+        plot_goals(data, tolerance, out / GOALS_FIGURE[0])
+        figures.append(GOALS_FIGURE)
     plot_position(data, out / FIGURES[1][0])
     plot_exploration(data, out / FIGURES[2][0])
     plot_forces(data, out / FIGURES[3][0])
@@ -271,7 +304,7 @@ def make_report(log_path, out_dir=None, summary=None, config=None):
     for w in summary.get("warnings", []):
         lines.append(f"| warning | {w} |")
     lines.append("")
-    for file, caption in FIGURES:
+    for file, caption in figures:
         lines += [f"## {caption}", "", f"![{caption}]({file})", ""]
     report = out / "report.md"
     report.write_text("\n".join(lines))
