@@ -394,6 +394,7 @@ void Supervisor::Fail(const std::string& why) {
 void Supervisor::Explore(const std::string& finger) {
   const int f = Finger(finger);
   explorer_ = f;
+  explorer_touching_since_ = -1.0;
   phase_since_ = now_;
   reached_[f] = false;
   // Back against the rotation to where the finger can follow the steps it turns with until it
@@ -594,7 +595,14 @@ void Supervisor::TickGait() {
     if (!grasp_.is(GraspState::Tasks)) return;
   }
   if (regrasp_.exploring()) {
-    const bool there = explorer_ >= 0 && reached_[explorer_] && view_.fingers[explorer_].in_contact;
+    // At its point, and touching steadily (a finger that slid fast chatters on the surface; one
+    // that grips without a contact loses it).
+    const bool touching = explorer_ >= 0 && view_.fingers[explorer_].in_contact &&
+                          view_.fingers[explorer_].force > 0.5 * task_params_.explore_force_n;
+    if (!touching) explorer_touching_since_ = -1.0;
+    else if (explorer_touching_since_ < 0) explorer_touching_since_ = now_;
+    const bool there = explorer_ >= 0 && reached_[explorer_] && touching &&
+                       now_ - explorer_touching_since_ >= g.explore_contact_s;
     // Continuous: the three turn the object while the explorer slides; both must be done.
     const bool turned = regrasp_.turn() != RegraspChart::Turn::kContinuous || StepDone(in_phase);
     if ((there && turned) || in_phase > g.explore_timeout_s) {

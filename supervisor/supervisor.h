@@ -164,6 +164,7 @@ class Supervisor : private RegraspActions {
   Eigen::Vector3d home_centre_ = Eigen::Vector3d::Zero();
   double phase_since_ = 0.0;
   int explorer_ = -1;
+  double explorer_touching_since_ = -1.0;
   double step_ = 0.0;  // the rotation step under way
   Eigen::Vector3d explore_target_ = Eigen::Vector3d::Zero();
   bool gait_done_ = false;

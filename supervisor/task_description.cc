@@ -99,6 +99,7 @@ struct GaitYaml {
   double grip_timeout_s = 2.0;
   double settle_tolerance_rad = 0.05;
   double settle_time_s = 0.3;
+  double explore_contact_s = 0.0;
   template <typename A>
   void Serialize(A* a) {
     a->Visit(DMPL_NVP(order));
@@ -107,6 +108,7 @@ struct GaitYaml {
     a->Visit(DMPL_NVP(grip_timeout_s));
     a->Visit(DMPL_NVP(settle_tolerance_rad));
     a->Visit(DMPL_NVP(settle_time_s));
+    a->Visit(DMPL_NVP(explore_contact_s));
   }
 };
 
@@ -248,6 +250,8 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
   t.gait.grip_timeout_s = y.gait.grip_timeout_s;
   t.gait.settle_tolerance_rad = y.gait.settle_tolerance_rad;
   t.gait.settle_time_s = y.gait.settle_time_s;
+  if (!(y.gait.explore_contact_s >= 0)) c.Fail("gait.explore_contact_s", "must be >= 0");
+  t.gait.explore_contact_s = y.gait.explore_contact_s;
   if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
   for (size_t i = 0; i < y.tasks.size(); ++i) {
     const CTaskYaml& ty = y.tasks[i];

@@ -85,6 +85,8 @@ struct GaitSpec {
   double settle_tolerance_rad = 0.05;
   double settle_time_s = 0.3;
   double grip_timeout_s = 2.0;
+  // The explorer is at its new point once it has touched it this long without a break.
+  double explore_contact_s = 0.0;
 };
 
 struct TaskFile {

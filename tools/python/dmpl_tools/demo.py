@@ -89,7 +89,10 @@ def main(argv=None):
     print_headline(summary, out)
     if log.exists():
         try:
-            print(f"\nreport: {make_report(log, out / 'report')}")
+            report = make_report(log, out / "report", replay_path=out / "replay.html")
+            print(f"\nreport: {report}")
+            if (out / "replay.html").exists():
+                print(f"replay: {out / 'replay.html'} (3-D, opens offline in a browser)")
         except (LogError, OSError) as e:  # the summary is written; say why there is no report
             print(f"\nreport: not written: {e}")
         print(f"log:    {log} ({summary.get('record_policy')}; tools/dmpl replay it for "

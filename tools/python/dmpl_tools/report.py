@@ -6,6 +6,7 @@
   fig10_forces.png        contact forces of all four fingers, the finger roles shaded
   statechart.png          the grasp and regrasp statecharts' states over time
   goals.png               with goal orientations: the angle to the current goal, goals reached
+  replay.html             the run in 3-D, one self-contained page (tools/dmpl view)
   report.md               the headline numbers and the figures
 
 The summary comes from DIR/summary.json when the log belongs to a run directory, else it is
@@ -15,6 +16,7 @@ need (logdata.py); a log of any record policy but none will do (an analysis log 
 """
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -262,8 +264,9 @@ HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "r
             "time_per_goal_p90_s"]
 
 
-def make_report(log_path, out_dir=None, summary=None, config=None):
-    """Writes the figures and report.md; returns the report's path."""
+def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=None):
+    """Writes the figures, report.md and a 3-D replay (replay_path, default OUT/replay.html;
+    False: none); returns the report's path."""
     log_path = Path(log_path)
     out = Path(out_dir) if out_dir else log_path.parent / "report"
     out.mkdir(parents=True, exist_ok=True)
@@ -303,12 +306,31 @@ def make_report(log_path, out_dir=None, summary=None, config=None):
         lines.append(f"| problem | {p} |")
     for w in summary.get("warnings", []):
         lines.append(f"| warning | {w} |")
+    replay = _write_replay(log_path, out, replay_path)
+    if isinstance(replay, Path):
+        lines += ["", f"3-D replay (opens offline in a browser): "
+                      f"[{replay.name}]({os.path.relpath(replay, out)})"]
+    elif replay:
+        lines += ["", f"3-D replay: not written ({replay})"]
     lines.append("")
     for file, caption in figures:
         lines += [f"## {caption}", "", f"![{caption}]({file})", ""]
     report = out / "report.md"
     report.write_text("\n".join(lines))
     return report
+
+
+def _write_replay(log_path, out, replay_path):
+    """The replay's path, or why there is none (the report stands without it)."""
+    if replay_path is False:
+        return None
+    from . import view
+    path = Path(replay_path) if replay_path else out / "replay.html"
+    try:
+        path.unlink(missing_ok=True)  # never a stale replay of another run
+        return view.write_replay(log_path, path)
+    except (view.ViewError, LogError, OSError, RuntimeError) as e:
+        return str(e)
 
 
 def main(argv=None):

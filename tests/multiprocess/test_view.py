@@ -1,0 +1,106 @@
+"""Issue 16: the 3-D viewer. The hand it draws is the hand the controller computes (forward
+kinematics from the URDF against the C++ kinematics' tip positions), the HTML replay of a log is
+one self-contained page, and the live view listens to a running set without changing what the set
+does (a lockstep run gives the same summary with and without it)."""
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+import mp
+from dmpl_tools import channels, view
+from dmpl_tools.hand_geometry import load_hand
+from dmpl_tools.logdata import Columns, extract
+from dmpl_tools.run import run_experiment
+
+EXP = mp.ROOT + "/configs/experiments/"
+
+
+class ViewTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.out = Path(tempfile.mkdtemp(prefix="dmpl_view_"))
+        cls.summary, _ = run_experiment(EXP + "fig10_gait_sphere.yaml", cls.out, echo=False,
+                                        sets=["task.angle=0.2"], one_process=True,
+                                        record="full")
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.out, ignore_errors=True)
+
+    def test_the_hand_drawn_is_the_hand_the_controller_computes(self):
+        hand = load_hand(mp.ROOT + "/configs/hand/dmpl_hand.urdf")
+        with tempfile.TemporaryDirectory() as tmp:
+            extract(self.out / "run.lcmlog", tmp,
+                    {channels.SENSORS_TRUE: ["seq", "joint_position"],
+                     channels.CONTROLLER_STATUS: ["seq", "tip_position"]})
+            cols = Columns(tmp)
+            truth, ctl = cols.table(channels.SENSORS_TRUE), cols.table(channels.CONTROLLER_STATUS)
+            joints = cols.channels[channels.SENSORS_TRUE]["joints"]
+            fingers = cols.channels[channels.CONTROLLER_STATUS]["fingers"]
+        # The controller's tips of tick k come from the joints sensed at k (no joint noise here).
+        index = {s: i for i, s in enumerate(truth["seq"])}
+        checked = 0
+        for j in range(0, len(ctl["seq"]), 97):
+            i = index.get(ctl["seq"][j])
+            if i is None:
+                continue
+            poses = hand.link_poses(dict(zip(joints, truth["joint_position"][i])))
+            for k, f in enumerate(fingers):
+                np.testing.assert_allclose(poses[f + "_tip"][:3, 3], ctl["tip_position"][j][k],
+                                           atol=1e-6, err_msg=f"finger {f} at seq {ctl['seq'][j]}")
+            checked += 1
+        self.assertGreater(checked, 10)
+
+    def test_the_replay_is_one_page_that_needs_nothing_else(self):
+        page = self.out / "replay.html"
+        view.write_replay(self.out / "run.lcmlog", page)
+        text = page.read_text()
+        self.assertIsNone(re.search(r"<script[^>]+src=", text), "a script it would fetch")
+        self.assertIsNone(re.search(r"<link[^>]+href=", text), "a style sheet it would fetch")
+        self.assertIn("dmpl-overlay", text)
+        self.assertIn("MeshCat.Viewer", text)
+        # 30 frames a second of the run, each with a text for the overlay.
+        texts = re.search(r"const texts = (\[.*?\]);", text).group(1)
+        n = texts.count('"t = ')
+        self.assertAlmostEqual(n / 30.0, self.summary["sim_time_s"], delta=0.1)
+        self.assertIn("Tasks", texts)
+
+    def test_bad_input_is_one_clear_error(self):
+        for args, message in ((["/no/such.lcmlog"], "no such log"),
+                              ([str(self.out / "config.yaml"), "--html", "/tmp/x.html"],
+                               "dmpl view:"),
+                              (["--fps", "0"], "--fps")):
+            r = subprocess.run([sys.executable, "-m", "dmpl_tools.view", *args], cwd=mp.ROOT,
+                               capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 2, (args, r.stderr))
+            self.assertIn(message, r.stderr)
+            self.assertNotIn("Traceback", r.stderr)
+
+    def test_the_live_view_listens_without_changing_the_run(self):
+        config = view.experiment.resolve(EXP + "fig8_sphere.yaml")
+        stats = {}
+        viewer = threading.Thread(target=lambda: stats.update(
+            view.view_live(mp.URL, config, fps=30, duration_s=25)), daemon=True)
+        viewer.start()
+        time.sleep(2)
+        with_view, _ = run_experiment(EXP + "fig8_sphere.yaml", tempfile.mkdtemp(), echo=False,
+                                      record="none")
+        viewer.join(timeout=40)
+        without, _ = run_experiment(EXP + "fig8_sphere.yaml", tempfile.mkdtemp(), echo=False,
+                                    record="none")
+        self.assertGreater(stats.get("frames", 0), 30)
+        for key in ("status", "rotation_total_rad", "final_orientation_error_rad",
+                    "max_position_drift_m", "grip_force_total_n", "regrasps", "sim_time_s"):
+            self.assertEqual(with_view[key], without[key], key)
+
+
+if __name__ == "__main__":
+    sys.exit(unittest.main())
