@@ -55,14 +55,20 @@ sc::Guard RegraspChart::NextIs(int k) {
 // The paper numbers the actions per finger: explore 4, 7, 10, 13; rotate 2, 5, 8, 11; grip 3, 6,
 // 9, 12 for the fingers in exploring order R, M, F, T (S2..S5).
 sc::Action RegraspChart::ExploreAction(int number, int k) {
-  std::string name = "A" + std::to_string(number) + " " + order_[k] + " explore";
-  const bool overlap = turn_ == Turn::kContinuous;
-  if (overlap) name += " + A" + std::to_string(number - 2) + " " + Grippers(k) + " rotate";
-  return sc::Action(name, [this, k, name, overlap] {
-    last_action_ = name;
+  const std::string explore = "A" + std::to_string(number) + " " + order_[k] + " explore";
+  const std::string both = explore + " + A" + std::to_string(number - 2) + " " + Grippers(k) +
+                           " rotate";
+  const std::string name = turn_ == Turn::kContinuous ? both
+                           : turn_ == Turn::kAuto     ? explore + " (+ A" +
+                                                        std::to_string(number - 2) + " rotate)"
+                                                      : explore;
+  return sc::Action(name, [this, k, explore, both] {
+    overlapping_ = turn_ == Turn::kContinuous ||
+                   (turn_ == Turn::kAuto && actions_->CanTurnWithout(order_[k]));
+    last_action_ = overlapping_ ? both : explore;
     phase_ = Phase::kExploring;
     actions_->Explore(order_[k]);
-    if (overlap) actions_->Rotate(Grippers(k));
+    if (overlapping_) actions_->Rotate(Grippers(k));
   });
 }
 
@@ -113,25 +119,37 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
       {S::S1, E::Begin, goal, finish, S::S1},
       {S::S1, E::GripStable, goal, finish, S::S1},
   };
-  const bool four = turn_ == Turn::kFourFingers;
+  const bool four = turn_ == Turn::kFourFingers, autom = turn_ == Turn::kAuto;
+  const sc::Guard gripping("gripping", [this] { return phase_ == Phase::kGripping; });
   if (four) {
     // explore (three hold) -> grip -> all four turn -> the next finger explores.
-    const sc::Guard gripping("gripping", [this] { return phase_ == Phase::kGripping; });
     rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
     rows.push_back({S::S1, E::GripStable, gripping, a1, S::S1});
   }
+  if (autom) {
+    // As four, but after an explore that turned the object too the next finger explores.
+    const sc::Guard after_four("gripping, the step not turned", [this] {
+      return phase_ == Phase::kGripping && !overlapping_;
+    });
+    rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
+    rows.push_back({S::S1, E::GripStable, after_four, a1, S::S1});
+  }
   for (int k = 0; k < 4; ++k) {
     const S sk = kExploreState[k];
-    // What ends S1 for the next explorer: a step's turn with four, a grip with three.
-    const E after = four ? E::RotateDone : E::GripStable;
     rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    rows.push_back({S::S1, after, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    if (four || turn_ == Turn::kContinuous) {
-      // Four: the explorer is at its point; continuous: and the step's turn is done too.
-      rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
-    } else {
+    // What ends S1 for the next explorer: a step's turn with four, a grip with three.
+    if (four || autom) {
+      rows.push_back({S::S1, E::RotateDone, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+    }
+    if (!four) {
+      rows.push_back({S::S1, E::GripStable, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+    }
+    if (turn_ == Turn::kThreeFingers) {
       rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});
       rows.push_back({sk, E::RotateDone, rotating, GripAction(3 + 3 * k, k), S::S1});
+    } else {
+      // Four: the explorer is at its point; continuous: and the step's turn is done too.
+      rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
     }
     rows.push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
   }

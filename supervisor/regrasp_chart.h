@@ -11,6 +11,8 @@
 // turns; three leave a half-circle open on the explorer's side. kContinuous overlaps the paper's
 // two phases: the three grippers turn the object while the explorer slides back (A4 and A2 at
 // once), so the object never waits for an explorer; the explorer grips again when both are done.
+// kAuto decides at each explore (RegraspActions::CanTurnWithout): continuous when the three
+// grippers can turn the object about the step's axis without the explorer, else four.
 #include <string>
 #include <vector>
 
@@ -41,12 +43,15 @@ class RegraspActions {
   virtual void Grip(const std::string& finger) = 0;                 // A3, A6, A9, A12
   virtual void Finish() = 0;                                        // the goal is reached
   virtual bool GoalReached() const = 0;
+  // kAuto: can the other three turn the object about the next step's axis while `finger`
+  // explores?
+  virtual bool CanTurnWithout(const std::string& finger) const = 0;
 };
 
 class RegraspChart {
  public:
   // `order`: the exploring order (each a finger name; four of them, S2..S5 = order[0..3]).
-  enum class Turn { kThreeFingers, kFourFingers, kContinuous };
+  enum class Turn { kThreeFingers, kFourFingers, kContinuous, kAuto };
   RegraspChart(RegraspActions* actions, std::vector<std::string> order,
                Turn turn = Turn::kThreeFingers);
 
@@ -58,6 +63,9 @@ class RegraspChart {
   int regrasps() const { return regrasps_; }
   bool rotating() const { return phase_ == Phase::kRotating; }
   bool exploring() const { return phase_ == Phase::kExploring; }
+  // The step under way turns the object while the explorer slides (kContinuous, or kAuto's
+  // choice at the last explore).
+  bool overlapping() const { return overlapping_; }
   Turn turn() const { return turn_; }
   std::string ToDot() const { return chart_.ToDot(); }
   std::string ToMermaid() const { return chart_.ToMermaid(); }
@@ -79,6 +87,7 @@ class RegraspChart {
   Turn turn_;
   int next_ = 0;
   int regrasps_ = 0;
+  bool overlapping_ = false;
   Phase phase_ = Phase::kGripping;
   std::string last_action_;
   sc::StateMachine<RegraspState, RegraspEvent> chart_;

@@ -55,7 +55,8 @@ std::string Fixed(double value, int digits = 2) {
 RegraspChart::Turn TurnOf(const std::string& turn) {
   if (turn == "three") return RegraspChart::Turn::kThreeFingers;
   if (turn == "four") return RegraspChart::Turn::kFourFingers;
-  return RegraspChart::Turn::kContinuous;
+  if (turn == "continuous") return RegraspChart::Turn::kContinuous;
+  return RegraspChart::Turn::kAuto;
 }
 }  // namespace
 
@@ -65,10 +66,11 @@ void TaskParams::Validate(const std::string& source) const {
   };
   if (!std::isfinite(angle)) fail("angle", "must be finite");
   if (!(step > 0) || step > 1.0) fail("step", "must be in (0, 1] rad");
-  if (turn != "three" && turn != "four" && turn != "continuous") {
-    fail("turn", "must be 'continuous', 'four' or 'three' (the paper's)");
+  if (turn != "three" && turn != "four" && turn != "continuous" && turn != "auto") {
+    fail("turn", "must be 'auto', 'continuous', 'four' or 'three' (the paper's)");
   }
   if (!(angular_speed > 0)) fail("angular_speed", "must be > 0");
+  if (!(overlap_angular_speed >= 0)) fail("overlap_angular_speed", "must be >= 0");
   if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
   if (explore_travel < 0) fail("explore_travel", "must be >= 0");
   if (random_goals < 0 || random_goals > 100000) fail("random_goals", "must be in [0, 100000]");
@@ -258,8 +260,15 @@ void Supervisor::RotateGoal(const Eigen::Vector3d& axis, double angle) {
   rotation_commanded_ += angle * axis.dot(Axis("task"));
   out_.task.has_object_target = true;
   out_.task.object_target = goal_;
-  out_.task.max_angular_speed = task_params_.angular_speed;
+  out_.task.max_angular_speed = StepSpeed();
   motion_done_event_ = false;
+}
+
+double Supervisor::StepSpeed() const {
+  const double overlap = task_params_.overlap_angular_speed;
+  return regrasp_.exploring() && regrasp_.overlapping() && overlap > 0
+             ? overlap
+             : task_params_.angular_speed;
 }
 
 void Supervisor::Note(const std::string& text) {
@@ -394,7 +403,6 @@ void Supervisor::Fail(const std::string& why) {
 void Supervisor::Explore(const std::string& finger) {
   const int f = Finger(finger);
   explorer_ = f;
-  explorer_touching_since_ = -1.0;
   phase_since_ = now_;
   reached_[f] = false;
   // Back against the rotation to where the finger can follow the steps it turns with until it
@@ -403,10 +411,11 @@ void Supervisor::Explore(const std::string& finger) {
   // Toward a goal orientation the steps turn about the axis to it (positive angles).
   const bool to_goal = task_params_.has_goals();
   const double sign = to_goal || task_params_.angle >= 0 ? 1.0 : -1.0;
-  const Eigen::Vector3d axis =
-      to_goal ? RotationToGoal(SensedOrientation(), goals_.current()).axis : Axis("task");
+  const Eigen::Vector3d axis = StepAxis();
   const double n = static_cast<double>(fingers_.size());
-  const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers;
+  // With four the explorer rides every step; when the others turn while it slides, all but one.
+  const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers ||
+                    (regrasp_.turn() == RegraspChart::Turn::kAuto && !regrasp_.overlapping());
   const double rides = four ? n : n - 1;
   const double back = -sign * task_params_.explore_travel * rides * task_params_.step / 2.0;
   const Eigen::AngleAxisd turn(back, axis);
@@ -437,7 +446,7 @@ void Supervisor::Rotate(const std::string& grippers) {
     rotation_commanded_ += step_;
     out_.task.has_object_target = true;
     out_.task.object_target = goal_;
-    out_.task.max_angular_speed = task_params_.angular_speed;
+    out_.task.max_angular_speed = StepSpeed();
     motion_done_event_ = false;
     return;
   }
@@ -454,6 +463,22 @@ void Supervisor::Grip(const std::string& finger) {
 }
 
 void Supervisor::Finish() { gait_done_ = true; }
+
+Eigen::Vector3d Supervisor::StepAxis() const {
+  return task_params_.has_goals() ? RotationToGoal(SensedOrientation(), goals_.current()).axis
+                                  : Axis("task");
+}
+
+bool Supervisor::CanTurnWithout(const std::string& /*finger*/) const {
+  // The fingers stand around one axis of the palm (gait.overlap_about): about it, any three of
+  // them turn the object while the fourth slides back; about an axis tilted from it they push
+  // the object along that axis too, which needs the fourth's support (measured: three alone
+  // lose the object about y, z and the diagonal; four turn it).
+  const Eigen::Vector3d about(tasks_.gait.overlap_about[0], tasks_.gait.overlap_about[1],
+                              tasks_.gait.overlap_about[2]);
+  const double cos_tilt = std::abs(StepAxis().dot(about.normalized()));
+  return cos_tilt >= std::cos(tasks_.gait.overlap_max_tilt_rad);
+}
 
 bool Supervisor::GoalReached() const {
   if (task_params_.has_goals()) return goals_.complete();
@@ -563,7 +588,7 @@ bool Supervisor::StepDone(double in_phase) const {
   // The reference needs |step| / speed to arrive; after that and a moment to settle, an object
   // close enough to its goal has done its step.
   const GaitSpec& g = tasks_.gait;
-  const double travel = std::abs(step_) / task_params_.angular_speed;
+  const double travel = std::abs(step_) / StepSpeed();
   const bool settled = in_phase > travel + g.settle_time_s &&
                        view_.tracking_error_rad < g.settle_tolerance_rad;
   return motion_done_event_ || view_.motion_done || settled;
@@ -595,16 +620,9 @@ void Supervisor::TickGait() {
     if (!grasp_.is(GraspState::Tasks)) return;
   }
   if (regrasp_.exploring()) {
-    // At its point, and touching steadily (a finger that slid fast chatters on the surface; one
-    // that grips without a contact loses it).
-    const bool touching = explorer_ >= 0 && view_.fingers[explorer_].in_contact &&
-                          view_.fingers[explorer_].force > 0.5 * task_params_.explore_force_n;
-    if (!touching) explorer_touching_since_ = -1.0;
-    else if (explorer_touching_since_ < 0) explorer_touching_since_ = now_;
-    const bool there = explorer_ >= 0 && reached_[explorer_] && touching &&
-                       now_ - explorer_touching_since_ >= g.explore_contact_s;
+    const bool there = explorer_ >= 0 && reached_[explorer_] && view_.fingers[explorer_].in_contact;
     // Continuous: the three turn the object while the explorer slides; both must be done.
-    const bool turned = regrasp_.turn() != RegraspChart::Turn::kContinuous || StepDone(in_phase);
+    const bool turned = !regrasp_.overlapping() || StepDone(in_phase);
     if ((there && turned) || in_phase > g.explore_timeout_s) {
       if (!there) Note("explorer " + fingers_[explorer_] + " did not reach its point in time");
       if (!turned) Note("the step did not finish while the explorer slid");

@@ -99,6 +99,9 @@ class Supervisor : private RegraspActions {
   void Grip(const std::string& finger) override;
   void Finish() override;
   bool GoalReached() const override;
+  bool CanTurnWithout(const std::string& finger) const override;
+  Eigen::Vector3d StepAxis() const;  // the axis the next step turns about
+  double StepSpeed() const;          // the reference's speed in the step under way
 
   // Commands.
   void NewTask(const std::string& name);
@@ -164,7 +167,6 @@ class Supervisor : private RegraspActions {
   Eigen::Vector3d home_centre_ = Eigen::Vector3d::Zero();
   double phase_since_ = 0.0;
   int explorer_ = -1;
-  double explorer_touching_since_ = -1.0;
   double step_ = 0.0;  // the rotation step under way
   Eigen::Vector3d explore_target_ = Eigen::Vector3d::Zero();
   bool gait_done_ = false;

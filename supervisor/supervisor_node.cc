@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
     if (!dot && !mermaid) continue;
     // The grasp chart, then the regrasp chart for each way of turning (task.turn).
     const std::vector<std::string> fingers = {"T", "F", "M", "R"};
-    for (const char* turn : {"three", "four", "continuous"}) {
+    for (const char* turn : {"three", "four", "continuous", "auto"}) {
       dmpl::TaskParams task;
       task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
       task.turn = turn;

@@ -27,9 +27,13 @@ struct TaskParams {
   double step = 0.17453292519943295;    // rad: one gait step (the paper's 10 deg)
   // Who turns the object in a gait: "three" (the paper's A2..A11: the explorer reaches its point,
   // then three turn), "four" (the explorer moves while three hold still, grips again, then all
-  // four turn: A1) or "continuous" (three turn while the explorer slides). See RegraspChart.
+  // four turn: A1), "continuous" (three turn while the explorer slides) or "auto" (continuous
+  // when the three can turn the object about the step's axis, else four). See RegraspChart.
   std::string turn = "three";
   double angular_speed = 0.25;          // rad/s of the object reference
+  // rad/s of a turn made while an explorer slides (turn: continuous, auto); 0: angular_speed.
+  // Such a turn only has to end with the explore, and three fingers turn more gently than four.
+  double overlap_angular_speed = 0.0;
   double explore_force_n = 0.1;         // the exploration finger's force (the paper's 0.1 N)
   double explore_travel = 1.0;          // the explorer goes back (steps it rides) / 2 * step * this
 
@@ -47,6 +51,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(step));
     a->Visit(DMPL_NVP(turn));
     a->Visit(DMPL_NVP(angular_speed));
+    a->Visit(DMPL_NVP(overlap_angular_speed));
     a->Visit(DMPL_NVP(explore_force_n));
     a->Visit(DMPL_NVP(explore_travel));
   }

@@ -1,6 +1,7 @@
 #include "supervisor/task_description.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace dmpl {
 namespace {
@@ -99,7 +100,8 @@ struct GaitYaml {
   double grip_timeout_s = 2.0;
   double settle_tolerance_rad = 0.05;
   double settle_time_s = 0.3;
-  double explore_contact_s = 0.0;
+  std::array<double, 3> overlap_about = {1.0, 0.0, 0.0};
+  double overlap_max_tilt_rad = 0.5;
   template <typename A>
   void Serialize(A* a) {
     a->Visit(DMPL_NVP(order));
@@ -108,7 +110,8 @@ struct GaitYaml {
     a->Visit(DMPL_NVP(grip_timeout_s));
     a->Visit(DMPL_NVP(settle_tolerance_rad));
     a->Visit(DMPL_NVP(settle_time_s));
-    a->Visit(DMPL_NVP(explore_contact_s));
+    a->Visit(DMPL_NVP(overlap_about));
+    a->Visit(DMPL_NVP(overlap_max_tilt_rad));
   }
 };
 
@@ -250,8 +253,15 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
   t.gait.grip_timeout_s = y.gait.grip_timeout_s;
   t.gait.settle_tolerance_rad = y.gait.settle_tolerance_rad;
   t.gait.settle_time_s = y.gait.settle_time_s;
-  if (!(y.gait.explore_contact_s >= 0)) c.Fail("gait.explore_contact_s", "must be >= 0");
-  t.gait.explore_contact_s = y.gait.explore_contact_s;
+  const auto& about = y.gait.overlap_about;
+  if (std::sqrt(about[0] * about[0] + about[1] * about[1] + about[2] * about[2]) < 1e-6) {
+    c.Fail("gait.overlap_about", "must be a direction (not zero)");
+  }
+  if (!(y.gait.overlap_max_tilt_rad >= 0 && y.gait.overlap_max_tilt_rad <= M_PI / 2)) {
+    c.Fail("gait.overlap_max_tilt_rad", "must be in [0, pi/2]");
+  }
+  t.gait.overlap_about = about;
+  t.gait.overlap_max_tilt_rad = y.gait.overlap_max_tilt_rad;
   if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
   for (size_t i = 0; i < y.tasks.size(); ++i) {
     const CTaskYaml& ty = y.tasks[i];

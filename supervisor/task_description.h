@@ -85,8 +85,11 @@ struct GaitSpec {
   double settle_tolerance_rad = 0.05;
   double settle_time_s = 0.3;
   double grip_timeout_s = 2.0;
-  // The explorer is at its new point once it has touched it this long without a break.
-  double explore_contact_s = 0.0;
+  // task.turn=auto: the three grippers turn while the explorer slides when the step's axis is
+  // within overlap_max_tilt_rad of overlap_about (palm frame: the axis the fingers stand around),
+  // else all four turn after the explorer has gripped again.
+  std::array<double, 3> overlap_about = {1.0, 0.0, 0.0};
+  double overlap_max_tilt_rad = 0.5;
 };
 
 struct TaskFile {

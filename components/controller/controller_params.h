@@ -50,7 +50,6 @@ struct ControllerParams {
   // Hybrid control (exploration): tangential motion toward the finger's target point.
   double hybrid_tangential_gain = 2.0;   // 1/s
   double hybrid_max_speed = 0.02;        // m/s
-  bool hybrid_slide_on_contact = false;  // the slide slows with the force lost (lift-off stops it)
   // Finger position control (approach without contact).
   double approach_speed = 0.03;          // m/s
   double target_tolerance_m = 0.002;
@@ -101,7 +100,6 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));
     a->Visit(DMPL_NVP(hybrid_max_speed));
-    a->Visit(DMPL_NVP(hybrid_slide_on_contact));
     a->Visit(DMPL_NVP(approach_speed));
     a->Visit(DMPL_NVP(target_tolerance_m));
     a->Visit(DMPL_NVP(contact_threshold_n));

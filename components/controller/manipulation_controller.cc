@@ -435,11 +435,6 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
         }
         const double desired =
             Ramp(s, s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n);
-        // Slide only as fast as the contact holds: a finger that lifts off the surface (a fast
-        // slide chatters) stops and the force loop presses it back in first.
-        if (params_.hybrid_slide_on_contact && desired > 0) {
-          tangential *= std::clamp(in.tips[f].force / desired, 0.0, 1.0);
-        }
         s.anchor += tangential;
         s.target = s.anchor + normal * ForceTerm(&s, params_.explore_force, desired, in.tips[f].force);
         o.desired_force = desired;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "supervisor/regrasp_chart.h"
 
 namespace dmpl {
@@ -16,7 +18,9 @@ class Recorder : public RegraspActions {
   void Grip(const std::string& f) override { calls.push_back("grip " + f); }
   void Finish() override { calls.push_back("finish"); }
   bool GoalReached() const override { return turned >= goal; }
+  bool CanTurnWithout(const std::string& f) const override { return three_turn.count(f) > 0; }
   std::vector<std::string> calls;
+  std::set<std::string> three_turn;  // kAuto: the explorers the other three can turn without
   int turned = 0;
   int goal = 4;
 };
@@ -53,6 +57,46 @@ TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
   EXPECT_EQ(chart.regrasps(), 4);
   EXPECT_EQ(r.calls.back(), "finish");
   EXPECT_EQ(r.calls[1], "rotate TFM");
+}
+
+TEST(RegraspChartTest, ContinuousTurnsWhileTheExplorerSlidesAndGripsWhenBothAreDone) {
+  Recorder r;
+  RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kContinuous);
+  using E = RegraspEvent;
+  using S = RegraspState;
+  Play(&chart, {
+      {E::Begin, S::S2, "A4 R explore + A2 TFM rotate"}, {E::ExploreReady, S::S1, "A3 R grip"},
+      {E::GripStable, S::S3, "A7 M explore + A5 TFR rotate"},
+      {E::ExploreReady, S::S1, "A6 M grip"},
+      {E::GripStable, S::S4, "A10 F explore + A8 TMR rotate"},
+      {E::ExploreReady, S::S1, "A9 F grip"},
+      {E::GripStable, S::S5, "A13 T explore + A11 FMR rotate"},
+      {E::ExploreReady, S::S1, "A12 T grip"}, {E::GripStable, S::S1, "finish"},
+  });
+  EXPECT_EQ(r.turned, 4);
+  EXPECT_EQ(r.calls[0], "explore R");  // the explorer leaves first, then the three turn
+  EXPECT_EQ(r.calls[1], "rotate TFM");
+}
+
+TEST(RegraspChartTest, AutoTurnsWithThreeWhenTheyCanElseWithFourAfterTheGrip) {
+  // About y, say: F and R sit on the axis, so only while F or R explores can the other three
+  // (T and M among them) turn the object.
+  Recorder r;
+  r.three_turn = {"F", "R"};
+  RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kAuto);
+  using E = RegraspEvent;
+  using S = RegraspState;
+  Play(&chart, {
+      {E::Begin, S::S2, "A4 R explore + A2 TFM rotate"}, {E::ExploreReady, S::S1, "A3 R grip"},
+      {E::GripStable, S::S3, "A7 M explore"}, {E::ExploreReady, S::S1, "A6 M grip"},
+      {E::GripStable, S::S1, "A1 TFMR rotate"},
+      {E::RotateDone, S::S4, "A10 F explore + A8 TMR rotate"},
+      {E::ExploreReady, S::S1, "A9 F grip"}, {E::GripStable, S::S5, "A13 T explore"},
+      {E::ExploreReady, S::S1, "A12 T grip"}, {E::GripStable, S::S1, "A1 TFMR rotate"},
+      {E::RotateDone, S::S1, "finish"},
+  });
+  EXPECT_EQ(r.turned, 4);
+  EXPECT_FALSE(chart.overlapping());
 }
 
 TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1) {

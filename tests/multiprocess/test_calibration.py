@@ -62,7 +62,7 @@ class CalibrationTest(unittest.TestCase):
         # The analysis policy keeps the truth at 100 Hz, the sensed channel at 50 Hz and the
         # controller's per-tick status in bursts of 100 ticks every second: 15 s of gaiting
         # (forces from 0.1 to 1 N) give the sensor fits and 10+ force-response windows.
-        _, run = run_experiment(EXP / "fig10_gait_sphere.yaml", tempfile.mkdtemp(), echo=False,
+        _, run = run_experiment(EXP / "fig10_gait_paper.yaml", tempfile.mkdtemp(), echo=False,
                                 one_process=True, record="analysis",
                                 sets=["sim.duration_s=15", "noise.force_scale=1.2"])
         out = run / "calibration.yaml"

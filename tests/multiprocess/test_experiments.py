@@ -71,18 +71,18 @@ class ExperimentsTest(unittest.TestCase):
             self.assertNotIn("0.07", r.stdout)
 
     def test_fig10_gait_short(self):
-        # A few steps of the configured gait (R, then M explore while three hold; all four turn
-        # 5 deg after each regrasp) on the sphere and the cylinder, and of the paper's (R explores
-        # while TFM turn 10 deg, then M while TFR turn) on the sphere.
-        for s in (run("fig10_gait_sphere", "task.angle=0.2"),
-                  run("fig10_gait_cylinder", "task.angle=0.2", one_process=True),
-                  run("fig10_gait_sphere", "task.angle=0.35", "task.turn=three",
+        # Two steps of the configured gait (about x: R, then M explore while the other three turn
+        # the object 15 deg) on the sphere and the cylinder, and of the paper's (R explores, then
+        # TFM turn 10 deg; then M while TFR turn) on the sphere.
+        for s in (run("fig10_gait_sphere", "task.angle=0.5"),
+                  run("fig10_gait_cylinder", "task.angle=0.5", one_process=True),
+                  run("fig10_gait_paper", "task.angle=0.35", "task.turn=three",
                       "task.step=0.17453292519943295", one_process=True)):
             self.assertEqual(s["status"], "success", s.get("problems"))
             self.assertFalse(s["object_dropped"])
             self.assertEqual(s["contacts_lost"], 0)
-            self.assertGreater(s["rotation_total_rad"], s["rotation_commanded_rad"] - 0.02)
-            self.assertGreater(s["rotation_commanded_rad"], 0.19)
+            self.assertGreater(s["rotation_total_rad"], s["rotation_commanded_rad"] - 0.05)
+            self.assertGreater(s["rotation_commanded_rad"], 0.34)
             self.assertGreaterEqual(s["regrasps"], 2)
 
 
