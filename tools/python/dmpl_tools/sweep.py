@@ -37,6 +37,8 @@ COLUMNS = [("seed", "seed", "{}"), ("status", "status", "{}"),
            ("grip_force_peak_n", "peak grip (N)", "{:.2f}"),
            ("contacts_lost", "contacts lost", "{}"),
            ("regrasps", "regrasps", "{}"), ("object_dropped", "dropped", "{}"),
+           ("rotation_rate_rad_s", "rate (rad/s)", "{:.3f}"), ("goals_reached", "goals", "{}"),
+           ("time_per_goal_median_s", "s per goal", "{:.2f}"),
            ("sim_time_s", "sim time (s)", "{:.1f}"), ("realtime_factor", "RTF", "{:.2f}")]
 
 
@@ -106,10 +108,11 @@ def case_stats(trials):
     ok = [s for s in trials if s.get("status") == "success"]
     rotation, drift, peak = values("rotation_total_rad"), values("max_position_drift_m"), \
         values("grip_force_peak_n")
-    mass = values("object_mass_kg")
+    mass, rate = values("object_mass_kg"), values("rotation_rate_rad_s")
     return {"trials": len(trials), "succeeded": len(ok),
             "success_rate": len(ok) / len(trials) if trials else 0.0,
             "rotation_median_rad": statistics.median(rotation) if rotation else None,
+            "rate_median_rad_s": statistics.median(rate) if rate else None,
             "drift_max_m": max(drift) if drift else None,
             "grip_force_peak_max_n": max(peak) if peak else None,
             "object_weight_n": mass[0] * GRAVITY if mass else None,
@@ -119,6 +122,7 @@ def case_stats(trials):
 CASE_COLUMNS = [("case", "case", "{}"), ("succeeded", "succeeded", "{}"),
                 ("trials", "trials", "{}"), ("success_rate", "success", "{:.0%}"),
                 ("rotation_median_rad", "rotation median (rad)", "{:.3f}"),
+                ("rate_median_rad_s", "rate median (rad/s)", "{:.3f}"),
                 ("drift_max_m", "drift max (m)", "{:.4f}"),
                 ("grip_force_peak_max_n", "peak grip (N)", "{:.2f}"),
                 ("object_weight_n", "weight (N)", "{:.3f}"), ("drops", "drops", "{}")]
@@ -137,6 +141,9 @@ def write_table(out, title, trials):
                                                             per_case.items()]), ""]
     for key, label in (("rotation_total_rad", "rotation"), ("final_orientation_error_rad",
                                                           "final orientation error"),
+                       ("rotation_rate_rad_s", "rotation rate (rad/s)"),
+                       ("goals_reached", "goals reached"),
+                       ("time_per_goal_median_s", "time per goal, median of a run (s)"),
                        ("realtime_factor", "real-time factor")):
         vals = [s[key] for s in trials if isinstance(s.get(key), (int, float))]
         if vals:
