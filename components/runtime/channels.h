@@ -30,8 +30,9 @@ inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
 // wakes only for the channels it may want. Keep the form `{kName, bus},` one per line (tools/python
 // reads it). Channels whose relative order matters share a bus (JOINT_CMD and SIM_CONTROL: a
 // control sent in answer to tick s must reach the simulator before the command for tick s + 1).
-// The monitor bus carries what only people and tools read (lcm-spy, the recorder, the demo's
-// progress), so that no process of the loop wakes for it.
+// The monitor bus carries what only people and tools read (lcm-spy, the recorder), so that no
+// process of the loop wakes for it. The supervisor's status (100 Hz) is on the management bus:
+// the demo's progress and the live viewer read it without joining the monitor bus's 2 kHz.
 inline constexpr int kNumBuses = 8;
 inline constexpr const char* kBusNames[kNumBuses] = {
     "management", "truth", "sensed", "targets", "joints", "task", "status", "monitor"};
@@ -52,7 +53,7 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kTask, 5},
     {kControllerReport, 6},
     {kControllerStatus, 7},
-    {kSupervisorStatus, 7},
+    {kSupervisorStatus, 0},
 };
 
 }  // namespace dmpl::channels

@@ -10,7 +10,7 @@ for display only), each fingertip contact as a point with an arrow along its nor
 force (2 cm per N, into the translucent object), each fingertip coloured by its role (blue grip, orange explore, grey free),
 the sensed (noisy) object pose as a translucent ghost beside the true one, the target
 orientation (task) or the current goal orientation (goals) as a frame, the fingertip targets as
-small cubes, and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
+small cubes (live: the points the supervisor sends them to), and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
 
 The live view only listens: it keeps the latest message of each channel (no decoding on arrival)
 and draws at most `--fps` frames a second from the latest, so a slow browser drops frames and
@@ -512,7 +512,7 @@ class Latest:
 def live_frame(msgs, fingers, state):
     """Updates `state` (the last decoded values) from newly arrived raw messages; a frame once
     the truth has arrived."""
-    from dmpl import (controller_status_t, hand_sensors_t, supervisor_status_t, task_cmd_t)
+    from dmpl import hand_sensors_t, supervisor_status_t, task_cmd_t
     if channels.SENSORS_TRUE in msgs:
         s = hand_sensors_t.decode(msgs[channels.SENSORS_TRUE])
         state["truth"] = s
@@ -522,8 +522,6 @@ def live_frame(msgs, fingers, state):
         state["sup"] = supervisor_status_t.decode(msgs[channels.SUPERVISOR_STATUS])
     if channels.TASK in msgs:
         state["task"] = task_cmd_t.decode(msgs[channels.TASK])
-    if channels.CONTROLLER_STATUS in msgs:
-        state["ctl"] = controller_status_t.decode(msgs[channels.CONTROLLER_STATUS])
     s = state.get("truth")
     if s is None:
         return None
@@ -552,25 +550,28 @@ def live_frame(msgs, fingers, state):
             f["goals"] = f"goals {sup.goals_reached}/{sup.num_goals}, " \
                          f"{sup.goal_error_rad:.2f} rad to go"
     task = state.get("task")
-    if "goal" not in f and task is not None and task.has_object_target:
-        f["goal"] = np.array(task.object_orientation)
-    ctl = state.get("ctl")
-    if ctl is not None:
-        targets = {c.finger: np.array(c.target_position) for c in ctl.fingers}
+    if task is not None:
+        if "goal" not in f and task.has_object_target:
+            f["goal"] = np.array(task.object_orientation)
+        # The points the supervisor sends fingers to (approach, explore).
+        targets = {p.finger: np.array(p.target_position) for p in task.fingers if p.has_target}
         f["targets"] = [targets.get(n) for n in fingers]
     return f
 
 
 def view_live(lcm_url, config, fps=30.0, duration_s=None):
+    """Draws the running set until Ctrl-C (or duration_s). The viewer and its server run at the
+    lowest CPU priority: on a machine the loop keeps busy they take only what the loop leaves."""
+    import os
     from .bus import Buses
+    os.nice(19)
     _, g, _ = _meshcat()
     vis = open_visualizer()
     scene = Scene(vis, config)
     print(f"view: open {vis.url()}  (listening on {lcm_url}; Ctrl-C ends)", flush=True)
     latest = Latest()
     buses = Buses(lcm_url)
-    for ch in (channels.SENSORS_TRUE, channels.SENSORS, channels.SUPERVISOR_STATUS, channels.TASK,
-               channels.CONTROLLER_STATUS):
+    for ch in (channels.SENSORS_TRUE, channels.SENSORS, channels.SUPERVISOR_STATUS, channels.TASK):
         buses.subscribe(ch, latest)
     state, drawn, last_text = {}, 0, 0.0
     start = time.monotonic()
