@@ -21,6 +21,10 @@ inline constexpr char kSupervisorStatus[] = "DMPL_SUPERVISOR_STATUS";
 // Simulator control and status.
 inline constexpr char kSimControl[] = "DMPL_SIM_CONTROL";
 inline constexpr char kSimStatus[] = "DMPL_SIM_STATUS";
+// For viewers: the truth and the sensed channel at run.view_rate_hz (30 Hz) on a bus of their
+// own, so that a viewer costs the loop a few copies per frame, not one per tick.
+inline constexpr char kViewTruth[] = "DMPL_VIEW_TRUTH";
+inline constexpr char kViewSensed[] = "DMPL_VIEW_SENSED";
 // Process management.
 inline constexpr char kHeartbeat[] = "DMPL_HEARTBEAT";
 inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
@@ -33,9 +37,9 @@ inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
 // The monitor bus carries what only people and tools read (lcm-spy, the recorder), so that no
 // process of the loop wakes for it. The supervisor's status (100 Hz) is on the management bus:
 // the demo's progress and the live viewer read it without joining the monitor bus's 2 kHz.
-inline constexpr int kNumBuses = 8;
+inline constexpr int kNumBuses = 9;
 inline constexpr const char* kBusNames[kNumBuses] = {
-    "management", "truth", "sensed", "targets", "joints", "task", "status", "monitor"};
+    "management", "truth", "sensed", "targets", "joints", "task", "status", "monitor", "view"};
 struct ChannelBus {
   const char* channel;
   int bus;
@@ -54,6 +58,8 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kControllerReport, 6},
     {kControllerStatus, 7},
     {kSupervisorStatus, 0},
+    {kViewTruth, 8},
+    {kViewSensed, 8},
 };
 
 }  // namespace dmpl::channels

@@ -22,6 +22,7 @@ struct RunParams {
   double heartbeat_period_s = 0.25;
   std::vector<std::string> lockstep_participants = {"dmpl_noise", "dmpl_ik", "dmpl_controller"};
   std::string record = "full";     // what the run's log keeps: full, analysis or none (tools)
+  double view_rate_hz = 30.0;      // DMPL_VIEW_TRUTH / _SENSED for viewers (sim time); 0: none
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -34,7 +35,24 @@ struct RunParams {
     a->Visit(DMPL_NVP(heartbeat_period_s));
     a->Visit(DMPL_NVP(lockstep_participants));
     a->Visit(DMPL_NVP(record));
+    a->Visit(DMPL_NVP(view_rate_hz));
   }
+};
+
+// Decimates a stream by its sim time: true once per 1 / rate_hz of it (never for rate_hz <= 0).
+class RateGate {
+ public:
+  explicit RateGate(double rate_hz)
+      : period_us_(rate_hz > 0 ? static_cast<int64_t>(1e6 / rate_hz) : 0) {}
+  bool Due(int64_t utime) {
+    if (period_us_ <= 0 || utime < next_us_) return false;
+    next_us_ = utime - utime % period_us_ + period_us_;
+    return true;
+  }
+
+ private:
+  int64_t period_us_;
+  int64_t next_us_ = 0;
 };
 
 inline constexpr char kDefaultLcmUrl[] = "udpm://239.255.76.67:7667?ttl=0";

@@ -1,4 +1,5 @@
-// dmpl_noise: DMPL_SENSORS_TRUE in, DMPL_SENSORS out (README, "The processes"). Reads sections
+// dmpl_noise: DMPL_SENSORS_TRUE in, DMPL_SENSORS out (and DMPL_VIEW_SENSED at run.view_rate_hz
+// for viewers; README, "The processes"). Reads sections
 // `run`, `noise`.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
@@ -12,7 +13,7 @@ namespace {
 class NoiseNode : public Node {
  public:
   NoiseNode(const NodeContext& ctx, const NoiseParams& params)
-      : Node(ctx.name, ctx.bus), injector_(params, ctx.run.seed) {
+      : Node(ctx.name, ctx.bus), injector_(params, ctx.run.seed), view_gate_(ctx.run.view_rate_hz) {
     listen(channels::kSensorsTrue).subscribe(channels::kSensorsTrue, &NoiseNode::OnSensors, this);
     AddTimer(1.0, [this] { ReportRejections(); });
   }
@@ -21,6 +22,9 @@ class NoiseNode : public Node {
   void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* truth) {
     if (auto sensed = injector_.Sense(*truth)) {
       lcm(channels::kSensors).publish(channels::kSensors, &*sensed);
+      if (view_gate_.Due(sensed->utime)) {
+        lcm(channels::kViewSensed).publish(channels::kViewSensed, &*sensed);
+      }
       set_tick(truth->seq);
     }
   }
@@ -34,6 +38,7 @@ class NoiseNode : public Node {
   }
 
   NoiseInjector injector_;
+  RateGate view_gate_;  // DMPL_VIEW_SENSED
   int64_t reported_ = 0;
 };
 

@@ -35,6 +35,7 @@ class SimNode : public Node {
   SimNode(const NodeContext& ctx, HandModel model, const SimParams& sim, const ObjectParams& object)
       : Node(ctx.name, ctx.bus),
         run_(ctx.run),
+        view_gate_(ctx.run.view_rate_hz),
         sim_params_(sim),
         model_(std::move(model)),
         sim_(model_, sim, object) {
@@ -119,6 +120,9 @@ class SimNode : public Node {
       }
     }
     lcm(channels::kSensorsTrue).publish(channels::kSensorsTrue, &sensors_msg_);
+    if (view_gate_.Due(utime)) {
+      lcm(channels::kViewTruth).publish(channels::kViewTruth, &sensors_msg_);
+    }
     published_at_ = MonotonicSeconds();
     if (!run_.lockstep) publish_times_[tick_ % kLatencyWindow] = published_at_;
     set_tick(tick_);
@@ -394,6 +398,7 @@ class SimNode : public Node {
   }
 
   RunParams run_;
+  RateGate view_gate_;  // DMPL_VIEW_TRUTH
   SimParams sim_params_;
   HandModel model_;
   HandSim sim_;

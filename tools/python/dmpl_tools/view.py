@@ -12,9 +12,10 @@ the sensed (noisy) object pose as a translucent ghost beside the true one, the t
 orientation (task) or the current goal orientation (goals) as a frame, the fingertip targets as
 small cubes (live: the points the supervisor sends them to), and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
 
-The live view only listens: it keeps the latest message of each channel (no decoding on arrival)
-and draws at most `--fps` frames a second from the latest, so a slow browser drops frames and
-never slows the loop. Meshcat (PyPI `meshcat`) serves its viewer locally; nothing is fetched from
+The live view only listens, to the truth and sensed channels the simulator and the noise injector
+send for viewers at run.view_rate_hz (30 Hz) and the supervisor's status and task: it keeps the
+latest message of each (no decoding on arrival) and draws at most `--fps` frames a second from
+the latest, so a slow browser drops frames and never slows the loop. Meshcat (PyPI `meshcat`) serves its viewer locally; nothing is fetched from
 the internet."""
 import argparse
 import contextlib
@@ -513,11 +514,10 @@ def live_frame(msgs, fingers, state):
     """Updates `state` (the last decoded values) from newly arrived raw messages; a frame once
     the truth has arrived."""
     from dmpl import hand_sensors_t, supervisor_status_t, task_cmd_t
-    if channels.SENSORS_TRUE in msgs:
-        s = hand_sensors_t.decode(msgs[channels.SENSORS_TRUE])
-        state["truth"] = s
-    if channels.SENSORS in msgs:
-        state["sensed"] = hand_sensors_t.decode(msgs[channels.SENSORS])
+    if channels.VIEW_TRUTH in msgs:
+        state["truth"] = hand_sensors_t.decode(msgs[channels.VIEW_TRUTH])
+    if channels.VIEW_SENSED in msgs:
+        state["sensed"] = hand_sensors_t.decode(msgs[channels.VIEW_SENSED])
     if channels.SUPERVISOR_STATUS in msgs:
         state["sup"] = supervisor_status_t.decode(msgs[channels.SUPERVISOR_STATUS])
     if channels.TASK in msgs:
@@ -571,9 +571,14 @@ def view_live(lcm_url, config, fps=30.0, duration_s=None):
     print(f"view: open {vis.url()}  (listening on {lcm_url}; Ctrl-C ends)", flush=True)
     latest = Latest()
     buses = Buses(lcm_url)
-    for ch in (channels.SENSORS_TRUE, channels.SENSORS, channels.SUPERVISOR_STATUS, channels.TASK):
+    # The simulator and the noise injector send the truth and the sensed channel for viewers at
+    # run.view_rate_hz on a bus of their own: listening to them costs the loop a few copies
+    # per frame (the 1 kHz buses would cost it one per tick).
+    for ch in (channels.VIEW_TRUTH, channels.VIEW_SENSED, channels.SUPERVISOR_STATUS,
+               channels.TASK):
         buses.subscribe(ch, latest)
     state, drawn, last_text = {}, 0, 0.0
+    sink = ChangedOnly(vis)
     start = time.monotonic()
     try:
         while duration_s is None or time.monotonic() - start < duration_s:
@@ -581,7 +586,7 @@ def view_live(lcm_url, config, fps=30.0, duration_s=None):
             buses.handle(0)
             frame = live_frame(latest.take(), scene.fingers, state)
             if frame is not None:
-                scene.draw(vis, frame)
+                scene.draw(sink, frame)
                 drawn += 1
                 if tick - last_text > 0.25:
                     _live_text(vis, g, frame_text(frame))
@@ -592,6 +597,24 @@ def view_live(lcm_url, config, fps=30.0, duration_s=None):
     finally:
         close_visualizer(vis)
     return {"frames": drawn, "messages": latest.count}
+
+
+class ChangedOnly:
+    """Stands in for the visualizer in the live loop: sends a node's transform only when it
+    changed (every send is a round trip to the Meshcat server: hidden and resting objects cost
+    nothing)."""
+
+    def __init__(self, vis, sent=None, path=()):
+        self.vis, self.sent, self.path = vis, {} if sent is None else sent, path
+
+    def __getitem__(self, name):
+        return ChangedOnly(self.vis[name], self.sent, self.path + (name,))
+
+    def set_transform(self, matrix):
+        key = _pose_key(matrix)
+        if self.sent.get(self.path) != key:
+            self.sent[self.path] = key
+            self.vis.set_transform(matrix)
 
 
 def _live_text(vis, g, text):
@@ -617,22 +640,23 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("log", nargs="?", help="a recorded run (OUT/run.lcmlog); live without it")
     ap.add_argument("--html", metavar="FILE", help="write a self-contained HTML replay and exit")
-    ap.add_argument("--fps", type=float, default=30.0, help="frames per second (default 30)")
+    ap.add_argument("--fps", type=float, help="frames per second (default: 30 from a log, 15 "
+                    "live: each frame costs the live loop's machine a little)")
     ap.add_argument("--config", help="live: the run's config (OUT/config.yaml) for the object's "
                     "shape and the hand (default: configs/experiments/demo.yaml)")
     ap.add_argument("--lcm-url", help="live: the set's LCM URL (default: the config's run.lcm_url)")
     ap.add_argument("--duration", type=float, help="live: stop after this many seconds")
     args = ap.parse_args(argv)
-    if not 1 <= args.fps <= 240:
+    if args.fps is not None and not 1 <= args.fps <= 240:
         print("dmpl view: --fps must be in [1, 240]", file=sys.stderr)
         return 2
     try:
         if args.log and args.html:
-            out = write_replay(args.log, args.html, args.fps)
+            out = write_replay(args.log, args.html, args.fps or 30.0)
             print(f"replay: {out} ({out.stat().st_size / 1e6:.1f} MB)")
             return 0
         if args.log:
-            view_log(args.log, args.fps)
+            view_log(args.log, args.fps or 30.0)
             return 0
         if args.html:
             print("dmpl view: --html needs a LOG", file=sys.stderr)
@@ -644,7 +668,7 @@ def main(argv=None):
         from .launch import DEFAULT_LCM_URL
         url = (args.lcm_url or config.get("run", {}).get("lcm_url") or
                os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
-        stats = view_live(url, config, args.fps, args.duration)
+        stats = view_live(url, config, args.fps or 15.0, args.duration)
         print(f"view: drew {stats['frames']} frames of {stats['messages']} messages")
         return 0
     except (ViewError, LogError, experiment.ExperimentError, OSError) as e:
