@@ -2,6 +2,7 @@
 kinematics from the URDF against the C++ kinematics' tip positions), the HTML replay of a log is
 one self-contained page, and the live view listens to a running set without changing what the set
 does (a lockstep run gives the same summary with and without it)."""
+import json
 import re
 import shutil
 import subprocess
@@ -21,6 +22,34 @@ from dmpl_tools.logdata import Columns, extract
 from dmpl_tools.run import run_experiment
 
 EXP = mp.ROOT + "/configs/experiments/"
+
+
+# Run in the replay page: once the scene and the animation are loaded, the number of link nodes
+# and the object's drawn position at t = 0 and at t = T1 of the timeline, into <pre id=...>.
+PROBE = """<script>
+const timer = setInterval(function() {
+  const hand = viewer.scene_tree.find(["meshcat", "dmpl", "hand"]);
+  if (Object.keys(hand.children).length == 0 || viewer.animator.actions.length == 0) return;
+  clearInterval(timer);
+  let out;
+  try {
+    const obj = viewer.scene_tree.find(["meshcat", "dmpl", "object", "true"]).object;
+    const at = function(t) {
+      const a = viewer.animator;
+      a.play(); a.mixer.setTime(t); a.pause();
+      obj.updateWorldMatrix(true, false);
+      const p = new MeshCat.THREE.Vector3();
+      obj.getWorldPosition(p);
+      return [p.x, p.y, p.z];
+    };
+    out = {links: Object.keys(hand.children).length, p0: at(0.0), p1: at(T1)};
+  } catch (e) { out = {error: String(e)}; }
+  const pre = document.createElement("pre");
+  pre.id = "dmpl-probe";
+  pre.textContent = JSON.stringify(out);
+  document.body.appendChild(pre);
+}, 200);
+</script></body>"""
 
 
 class ViewTest(unittest.TestCase):
@@ -72,6 +101,52 @@ class ViewTest(unittest.TestCase):
         n = texts.count('"t = ')
         self.assertAlmostEqual(n / 30.0, self.summary["sim_time_s"], delta=0.1)
         self.assertIn("Tasks", texts)
+
+    def test_the_replay_in_a_browser_draws_the_hand_and_moves_the_object(self):
+        # Headless Chromium (installed by tools/dmpl) opens the replay, waits until the scene is
+        # built, reads the scene graph and the object's drawn position at two times of the
+        # timeline, and takes a screenshot.
+        chromium = shutil.which("chromium")
+        self.assertIsNotNone(chromium, "chromium is missing: tools/dmpl setup installs it")
+        page = self.out / "replay.html"
+        view.write_replay(self.out / "run.lcmlog", page)
+        t1 = 2.0
+        probe = PROBE.replace("T1", str(t1))
+        (self.out / "probe.html").write_text(page.read_text().replace("</body>", probe, 1))
+        browser = [chromium, "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader",
+                   "--enable-unsafe-swiftshader", "--virtual-time-budget=10000"]
+        r = subprocess.run(browser + ["--dump-dom", (self.out / "probe.html").as_uri()],
+                           capture_output=True, text=True, timeout=120)
+        found = re.search(r'<pre id="dmpl-probe">(.*?)</pre>', r.stdout)
+        self.assertIsNotNone(found, r.stderr[-2000:])
+        drawn = json.loads(found.group(1))
+        self.assertNotIn("error", drawn)
+        hand = load_hand(mp.ROOT + "/configs/hand/dmpl_hand.urdf")
+        self.assertEqual(drawn["links"], len([k for k, v in hand.shapes.items() if v]))
+        # The drawn object is where the truth was (the palm sits at the origin, so distances
+        # from it and between two times are the palm frame's; Meshcat's y is the world's up,
+        # the palm's x), within the replay's rounding (10 um).
+        with tempfile.TemporaryDirectory() as tmp:
+            extract(self.out / "run.lcmlog", tmp, {channels.SENSORS_TRUE: ["utime",
+                                                                           "object_position"]})
+            truth = Columns(tmp).table(channels.SENSORS_TRUE)
+        t = (truth["utime"] - truth["utime"][0]) * 1e-6
+        at = [truth["object_position"][int(np.argmin(abs(t - x)))] for x in (0.0, t1)]
+        p0, p1 = np.array(drawn["p0"]), np.array(drawn["p1"])
+        self.assertAlmostEqual(np.linalg.norm(p0), np.linalg.norm(at[0]), delta=1e-4)
+        self.assertAlmostEqual(p0[1], at[0][0], delta=1e-4)
+        moved = np.linalg.norm(at[1] - at[0])
+        self.assertGreater(moved, 1e-4)
+        self.assertAlmostEqual(np.linalg.norm(p1 - p0), moved, delta=2e-4)
+        # A screenshot: the palm (light grey) fills the lower middle, over the blue background.
+        png = self.out / "replay.png"
+        subprocess.run(browser + ["--window-size=1000,700", f"--screenshot={png}",
+                                  page.as_uri()], capture_output=True, timeout=120)
+        import matplotlib.image
+        image = matplotlib.image.imread(png)[..., :3]
+        middle = image[380:460, 450:600]
+        grey = (np.abs(middle[..., 0] - middle[..., 2]) < 0.08) & (middle.mean(axis=2) > 0.6)
+        self.assertGreater(grey.mean(), 0.3, "no palm where the camera looks")
 
     def test_bad_input_is_one_clear_error(self):
         for args, message in ((["/no/such.lcmlog"], "no such log"),
