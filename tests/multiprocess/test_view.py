@@ -148,6 +148,28 @@ class ViewTest(unittest.TestCase):
         grey = (np.abs(middle[..., 0] - middle[..., 2]) < 0.08) & (middle.mean(axis=2) > 0.6)
         self.assertGreater(grey.mean(), 0.3, "no palm where the camera looks")
 
+    def test_a_log_without_the_truth_is_refused_naming_the_channel(self):
+        import lcm
+        path = self.out / "no_truth.lcmlog"
+        log = lcm.EventLog(str(path), "w", overwrite=True)
+        log.write_event(0, channels.HEARTBEAT, b"\x00" * 40)
+        log.close()
+        with self.assertRaises(view.ViewError) as e:
+            view.write_replay(path, self.out / "no_truth.html")
+        self.assertIn(channels.SENSORS_TRUE, str(e.exception))
+        self.assertFalse((self.out / "no_truth.html").exists())
+
+    def test_a_truncated_log_replays_up_to_its_last_complete_event(self):
+        full = (self.out / "run.lcmlog").read_bytes()
+        cut = self.out / "cut" / "run.lcmlog"
+        cut.parent.mkdir(exist_ok=True)
+        cut.write_bytes(full[: len(full) // 2 + 7])  # mid-event
+        shutil.copy(self.out / "config.yaml", cut.parent / "config.yaml")
+        frames, _ = view.read_frames(cut, 30.0)
+        whole, _ = view.read_frames(self.out / "run.lcmlog", 30.0)
+        self.assertGreater(len(frames), 10)
+        self.assertLess(len(frames), len(whole))
+
     def test_bad_input_is_one_clear_error(self):
         for args, message in ((["/no/such.lcmlog"], "no such log"),
                               ([str(self.out / "config.yaml"), "--html", "/tmp/x.html"],
