@@ -65,7 +65,7 @@ class ViewTest(unittest.TestCase):
         shutil.rmtree(cls.out, ignore_errors=True)
 
     def test_the_hand_drawn_is_the_hand_the_controller_computes(self):
-        hand = load_hand(mp.ROOT + "/configs/hand/dmpl_hand.urdf")
+        hand = load_hand(self.out / "config.yaml")
         with tempfile.TemporaryDirectory() as tmp:
             extract(self.out / "run.lcmlog", tmp,
                     {channels.SENSORS_TRUE: ["seq", "joint_position"],
@@ -121,7 +121,7 @@ class ViewTest(unittest.TestCase):
         self.assertIsNotNone(found, r.stderr[-2000:])
         drawn = json.loads(found.group(1))
         self.assertNotIn("error", drawn)
-        hand = load_hand(mp.ROOT + "/configs/hand/dmpl_hand.urdf")
+        hand = load_hand(self.out / "config.yaml")
         self.assertEqual(drawn["links"], len([k for k, v in hand.shapes.items() if v]))
         # The drawn object is where the truth was (the palm sits at the origin, so distances
         # from it and between two times are the palm frame's; Meshcat's y is the world's up,
@@ -165,8 +165,8 @@ class ViewTest(unittest.TestCase):
         cut.parent.mkdir(exist_ok=True)
         cut.write_bytes(full[: len(full) // 2 + 7])  # mid-event
         shutil.copy(self.out / "config.yaml", cut.parent / "config.yaml")
-        frames, _ = view.read_frames(cut, 30.0)
-        whole, _ = view.read_frames(self.out / "run.lcmlog", 30.0)
+        frames, *_ = view.read_frames(cut, 30.0)
+        whole, *_ = view.read_frames(self.out / "run.lcmlog", 30.0)
         self.assertGreater(len(frames), 10)
         self.assertLess(len(frames), len(whole))
 

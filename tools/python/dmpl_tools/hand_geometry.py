@@ -1,10 +1,9 @@
-"""The hand's links and their shapes from its URDF, and their poses for given joint angles
-(forward kinematics), for drawing: the viewer reads the same file the simulator and the IK do.
-
-Only what the hand's URDF uses is read: revolute, continuous and fixed joints; box, cylinder and
-sphere geometry (visual, else collision) and mesh file names. Poses are 4x4 arrays in the frame of
-the root link (the palm)."""
-import xml.etree.ElementTree as ET
+"""The hand's links and their shapes, and their poses for given joint angles (forward
+kinematics), for drawing. The description comes from the project's hand model (C++, urdfdom:
+`dmpl_hand_geometry`), the one the simulator and the kinematics use: the viewer has no parser of
+its own. Poses are 4x4 arrays in the frame of the root link (the palm)."""
+import json
+import subprocess
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -22,13 +21,6 @@ def rpy_matrix(r, p, y):
                      [-sp, cp * sr, cp * cr]])
 
 
-def transform(xyz=(0, 0, 0), rpy=(0, 0, 0)):
-    t = np.eye(4)
-    t[:3, :3] = rpy_matrix(*rpy)
-    t[:3, 3] = xyz
-    return t
-
-
 def axis_angle(axis, angle):
     a = np.asarray(axis, dtype=float)
     a = a / np.linalg.norm(a)
@@ -40,10 +32,9 @@ def axis_angle(axis, angle):
 
 @dataclass
 class Shape:
-    kind: str                 # box, cylinder, sphere, mesh
+    kind: str                 # box, cylinder, sphere
     size: tuple               # box: (x, y, z); cylinder: (radius, length); sphere: (radius,)
     origin: np.ndarray        # 4x4 in the link frame
-    mesh: str = ""
 
 
 @dataclass
@@ -67,87 +58,30 @@ class Hand:
         poses = {self.root: np.eye(4)}
         for j in self.joints:
             t = poses[j.parent] @ j.origin
-            if j.kind in ("revolute", "continuous"):
+            if j.kind == "revolute":
                 t = t @ axis_angle(j.axis, angles.get(j.name, 0.0))
             poses[j.child] = t
         return poses
 
 
-def _floats(text, n, what):
+def load_hand(config_path=None):
+    """The hand of a dmpl config (its `hand` section; the defaults without one). Raises
+    UrdfError with the hand model's own message."""
+    from .paths import executable
     try:
-        v = tuple(float(x) for x in (text or "").split())
-    except ValueError:
-        v = ()
-    if len(v) != n:
-        raise UrdfError(f"{what}: expected {n} numbers, got '{text}'")
-    return v
-
-
-def _origin(el, what):
-    o = el.find("origin") if el is not None else None
-    if o is None:
-        return np.eye(4)
-    return transform(_floats(o.get("xyz", "0 0 0"), 3, what + " origin xyz"),
-                     _floats(o.get("rpy", "0 0 0"), 3, what + " origin rpy"))
-
-
-def _shape(el, what):
-    g = el.find("geometry")
-    if g is None or len(g) == 0:
-        return None
-    kind = g[0].tag
-    origin = _origin(el, what)
-    if kind == "box":
-        return Shape("box", _floats(g[0].get("size"), 3, what + " box size"), origin)
-    if kind == "cylinder":
-        return Shape("cylinder", (float(g[0].get("radius")), float(g[0].get("length"))), origin)
-    if kind == "sphere":
-        return Shape("sphere", (float(g[0].get("radius")),), origin)
-    if kind == "mesh":
-        return Shape("mesh", _floats(g[0].get("scale", "1 1 1"), 3, what + " mesh scale"), origin,
-                     g[0].get("filename", ""))
-    return None
-
-
-def load_hand(path):
-    """Reads a URDF; raises UrdfError naming the file and what is wrong."""
-    try:
-        robot = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as e:
-        raise UrdfError(f"{path}: {e}") from None
-    hand = Hand(root="")
-    try:
-        for link in robot.findall("link"):
-            name = link.get("name")
-            shapes = [_shape(v, f"link {name}") for v in link.findall("visual")]
-            if not any(shapes):
-                shapes = [_shape(c, f"link {name}") for c in link.findall("collision")]
-            hand.shapes[name] = [s for s in shapes if s is not None]
-        joints = []
-        for j in robot.findall("joint"):
-            parent, child = j.find("parent"), j.find("child")
-            if parent is None or child is None:
-                raise UrdfError(f"joint {j.get('name')}: needs a parent and a child")
-            axis = j.find("axis")
-            joints.append(Joint(j.get("name"), j.get("type"), parent.get("link"), child.get("link"),
-                                _origin(j, f"joint {j.get('name')}"),
-                                np.array(_floats(axis.get("xyz"), 3, "axis") if axis is not None
-                                         else (1.0, 0.0, 0.0))))
-    except (TypeError, ValueError) as e:
-        raise UrdfError(f"{path}: {e}") from None
-    children = {j.child for j in joints}
-    roots = [name for name in hand.shapes if name not in children]
-    if len(roots) != 1:
-        raise UrdfError(f"{path}: expected one root link, found {roots}")
-    hand.root = roots[0]
-    # Parents before children.
-    known, pending = {hand.root}, joints
-    while pending:
-        ready = [j for j in pending if j.parent in known]
-        if not ready:
-            raise UrdfError(f"{path}: joints whose parent link is missing: "
-                            f"{[j.name for j in pending]}")
-        hand.joints += ready
-        known |= {j.child for j in ready}
-        pending = [j for j in pending if j not in ready]
+        cmd = [executable("dmpl_hand_geometry"), "--config", str(config_path or "")]
+    except FileNotFoundError as e:
+        raise UrdfError(str(e)) from None
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    if done.returncode != 0:
+        raise UrdfError(done.stderr.strip() or f"{cmd[0]} failed ({done.returncode})")
+    doc = json.loads(done.stdout)
+    pose = lambda values: np.array(values, dtype=float).reshape(4, 4)  # noqa: E731
+    hand = Hand(root=doc["links"][0]["name"])
+    for link in doc["links"]:
+        hand.shapes[link["name"]] = [Shape(s["kind"], tuple(s["size"]), pose(s["origin"]))
+                                     for s in link["shapes"]]
+    for j in doc["joints"]:  # parents before children (the model's order)
+        hand.joints.append(Joint(j["name"], j["type"], j["parent"], j["child"], pose(j["origin"]),
+                                 np.array(j["axis"], dtype=float)))
     return hand

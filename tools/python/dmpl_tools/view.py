@@ -22,6 +22,7 @@ import contextlib
 import html
 import io
 import json
+import os
 import sys
 import tempfile
 import threading
@@ -122,14 +123,15 @@ def arrow_matrix(start, direction, length):
 class Scene:
     """The objects of the view under one root: built once, then posed frame by frame."""
 
-    def __init__(self, vis, config):
+    def __init__(self, vis, config, config_path=None):
+        """`config`: the run's config (a dict); `config_path`: its file, whose hand the project's
+        hand model reads (the defaults without one)."""
         self.meshcat, self.g, self.tf = _meshcat()
         self.vis = vis
         self.config = config
         hand_cfg = config.get("hand", {})
-        urdf = ROOT / hand_cfg.get("urdf", "configs/hand/dmpl_hand.urdf")
         try:
-            self.hand = load_hand(urdf)
+            self.hand = load_hand(config_path)
         except UrdfError as e:
             raise ViewError(str(e)) from None
         self.fingers = [f["name"] for f in hand_cfg.get("fingers", [])] or ["T", "F", "M", "R"]
@@ -336,9 +338,9 @@ def log_frames(data, config, fps):
 
 
 def run_config(log_path):
-    """The run's config beside its log (OUT/config.yaml), for display; empty without."""
+    """The run's config beside its log (OUT/config.yaml) and its path; ({}, None) without."""
     path = Path(log_path).parent / "config.yaml"
-    return experiment.load_yaml(path) if path.exists() else {}
+    return (experiment.load_yaml(path), path) if path.exists() else ({}, None)
 
 
 def read_frames(log_path, fps):
@@ -346,10 +348,10 @@ def read_frames(log_path, fps):
     log_path = Path(log_path)
     if not log_path.is_file():
         raise ViewError(f"no such log '{log_path}'")
-    config = run_config(log_path)
+    config, path = run_config(log_path)
     with tempfile.TemporaryDirectory(prefix="dmpl-view-") as tmp:
         extract(log_path, tmp, FIELDS)
-        return log_frames(LogData(Columns(tmp)), config, fps), config
+        return log_frames(LogData(Columns(tmp)), config, fps), config, path
 
 
 class Recorder:
@@ -462,10 +464,10 @@ def write_html(scene, vis, frames, fps, path, title):
 
 def write_replay(log_path, html_path, fps=30.0):
     """The self-contained HTML replay of a log; its path."""
-    frames, config = read_frames(log_path, fps)
+    frames, config, config_path = read_frames(log_path, fps)
     vis = open_visualizer()
     try:
-        scene = Scene(vis, config)
+        scene = Scene(vis, config, config_path)
         animate(scene, vis, frames, fps)
         name = config.get("experiment", {}).get("name", Path(log_path).stem)
         return write_html(scene, vis, frames, fps, html_path,
@@ -476,10 +478,10 @@ def write_replay(log_path, html_path, fps=30.0):
 
 def view_log(log_path, fps=30.0):
     """Serves a log's replay until Ctrl-C."""
-    frames, config = read_frames(log_path, fps)
+    frames, config, config_path = read_frames(log_path, fps)
     vis = open_visualizer()
     try:
-        scene = Scene(vis, config)
+        scene = Scene(vis, config, config_path)
         animate(scene, vis, frames, fps)
         print(f"view: open {vis.url()}  ({len(frames)} frames at {fps:g} Hz; Open Controls > "
               "Animations: play, pause, time to scrub, timeScale for the speed; Ctrl-C ends)",
@@ -559,15 +561,12 @@ def live_frame(msgs, fingers, state):
     return f
 
 
-def view_live(lcm_url, config, fps=30.0, duration_s=None):
-    """Draws the running set until Ctrl-C (or duration_s). The viewer and its server run at the
-    lowest CPU priority: on a machine the loop keeps busy they take only what the loop leaves."""
-    import os
+def view_live(lcm_url, config, fps=15.0, duration_s=None, config_path=None):
+    """Draws the running set until Ctrl-C (or duration_s)."""
     from .bus import Buses
-    os.nice(19)
     _, g, _ = _meshcat()
     vis = open_visualizer()
-    scene = Scene(vis, config)
+    scene = Scene(vis, config, config_path)
     print(f"view: open {vis.url()}  (listening on {lcm_url}; Ctrl-C ends)", flush=True)
     latest = Latest()
     buses = Buses(lcm_url)
@@ -662,13 +661,22 @@ def main(argv=None):
             print("dmpl view: --html needs a LOG", file=sys.stderr)
             return 2
         cfg_path = args.config or str(ROOT / "configs/experiments/demo.yaml")
-        config = experiment.resolve(cfg_path, (), (), None) if not args.config or \
-            not args.config.endswith("config.yaml") else experiment.load_yaml(cfg_path)
-        import os
+        config = experiment.resolve(cfg_path, (), (), None)
         from .launch import DEFAULT_LCM_URL
         url = (args.lcm_url or config.get("run", {}).get("lcm_url") or
                os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
-        stats = view_live(url, config, args.fps or 15.0, args.duration)
+        # The hand model reads the resolved config (an experiment's bases merged).
+        resolved = tempfile.NamedTemporaryFile("w", suffix=".yaml", prefix="dmpl-view-",
+                                               delete=False)
+        with resolved:
+            experiment.yaml.safe_dump(config, resolved)
+        # The viewer and its server at the lowest CPU priority: on a machine the loop keeps busy
+        # they take what the loop leaves.
+        os.nice(19)
+        try:
+            stats = view_live(url, config, args.fps or 15.0, args.duration, resolved.name)
+        finally:
+            os.unlink(resolved.name)
         print(f"view: drew {stats['frames']} frames of {stats['messages']} messages")
         return 0
     except (ViewError, LogError, experiment.ExperimentError, OSError) as e:

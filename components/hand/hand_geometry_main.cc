@@ -1,0 +1,98 @@
+// dmpl_hand_geometry --config FILE: the hand model of a config (its `hand` section, the URDF the
+// simulator and the kinematics read) as JSON on stdout: links with their shapes, joints with
+// their origins and axes. The viewer draws from it, so the picture and the physics share one
+// parser. Exit 2 with one message on a bad config or URDF.
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "components/hand/hand_model.h"
+#include "components/runtime/config.h"
+
+namespace {
+
+void PrintPose(const Eigen::Isometry3d& pose) {
+  // Row-major 4x4.
+  std::printf("[");
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      std::printf("%s%.17g", r + c == 0 ? "" : ", ", pose.matrix()(r, c));
+    }
+  }
+  std::printf("]");
+}
+
+std::string Quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+void Print(const dmpl::HandModel& hand) {
+  using dmpl::CollisionShape;
+  std::printf("{\"links\": [");
+  for (size_t i = 0; i < hand.links().size(); ++i) {
+    const auto& link = hand.links()[i];
+    std::printf("%s\n  {\"name\": %s, \"shapes\": [", i ? "," : "", Quoted(link.name).c_str());
+    for (size_t k = 0; k < link.collisions.size(); ++k) {
+      const CollisionShape& s = link.collisions[k];
+      const char* kind = s.kind == CollisionShape::Kind::kBox      ? "box"
+                         : s.kind == CollisionShape::Kind::kSphere ? "sphere"
+                                                                   : "cylinder";
+      std::printf("%s{\"kind\": \"%s\", \"size\": ", k ? ", " : "", kind);
+      if (s.kind == CollisionShape::Kind::kBox) {
+        std::printf("[%.17g, %.17g, %.17g]", s.box_size.x(), s.box_size.y(), s.box_size.z());
+      } else if (s.kind == CollisionShape::Kind::kSphere) {
+        std::printf("[%.17g]", s.radius);
+      } else {
+        std::printf("[%.17g, %.17g]", s.radius, s.length);
+      }
+      std::printf(", \"origin\": ");
+      PrintPose(s.origin);
+      std::printf("}");
+    }
+    std::printf("]}");
+  }
+  std::printf("],\n\"joints\": [");
+  for (size_t j = 0; j < hand.joints().size(); ++j) {
+    const auto& joint = hand.joints()[j];
+    std::printf("%s\n  {\"name\": %s, \"type\": \"%s\", \"parent\": %s, \"child\": %s, ", j ? "," : "",
+                Quoted(joint.name).c_str(),
+                joint.type == dmpl::JointInfo::Type::kRevolute ? "revolute" : "fixed",
+                Quoted(hand.links()[joint.parent_link].name).c_str(),
+                Quoted(hand.links()[joint.child_link].name).c_str());
+    std::printf("\"axis\": [%.17g, %.17g, %.17g], \"origin\": ", joint.axis.x(), joint.axis.y(),
+                joint.axis.z());
+    PrintPose(joint.origin);
+    std::printf("}");
+  }
+  std::printf("]}\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string config_path;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
+      config_path = argv[++i];
+    } else {
+      std::cerr << "usage: dmpl_hand_geometry --config FILE\n";
+      return 2;
+    }
+  }
+  try {
+    const dmpl::Config config = dmpl::Config::Resolve(config_path, {}, {});
+    dmpl::HandParams params;
+    config.Load("hand", &params);
+    Print(dmpl::HandModel::Load(params));
+  } catch (const std::exception& e) {
+    std::cerr << "dmpl_hand_geometry: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
