@@ -14,8 +14,9 @@ small cubes (live: the points the supervisor sends them to), and a text: sim tim
 
 The live view only listens, to the truth and sensed channels the simulator and the noise injector
 send for viewers at run.view_rate_hz (30 Hz) and the supervisor's status and task: it keeps the
-latest message of each (no decoding on arrival) and draws at most `--fps` frames a second from
-the latest, so a slow browser drops frames and never slows the loop. Meshcat (PyPI `meshcat`) serves its viewer locally; nothing is fetched from
+latest message of each (no decoding on arrival), draws at most `--fps` (15) frames a second from
+the latest, sends only the transforms that changed, and runs under SCHED_IDLE: a slow browser
+drops frames, and the loop's processes always run first. Meshcat (PyPI `meshcat`) serves its viewer locally; nothing is fetched from
 the internet."""
 import argparse
 import contextlib
@@ -670,9 +671,9 @@ def main(argv=None):
                                                delete=False)
         with resolved:
             experiment.yaml.safe_dump(config, resolved)
-        # The viewer and its server at the lowest CPU priority: on a machine the loop keeps busy
-        # they take what the loop leaves.
-        os.nice(19)
+        # The viewer and its server run only when a CPU has nothing else to do (SCHED_IDLE: a
+        # woken process of the loop preempts them at once), so they never delay a tick.
+        os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
         try:
             stats = view_live(url, config, args.fps or 15.0, args.duration, resolved.name)
         finally:
