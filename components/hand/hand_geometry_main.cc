@@ -8,6 +8,7 @@
 #include <string>
 
 #include "components/hand/hand_model.h"
+#include "components/logging/json_text.h"
 #include "components/runtime/config.h"
 
 namespace {
@@ -23,21 +24,12 @@ void PrintPose(const Eigen::Isometry3d& pose) {
   std::printf("]");
 }
 
-std::string Quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    out += ch;
-  }
-  return out + "\"";
-}
-
 void Print(const dmpl::HandModel& hand) {
   using dmpl::CollisionShape;
   std::printf("{\"links\": [");
   for (size_t i = 0; i < hand.links().size(); ++i) {
     const auto& link = hand.links()[i];
-    std::printf("%s\n  {\"name\": %s, \"shapes\": [", i ? "," : "", Quoted(link.name).c_str());
+    std::printf("%s\n  {\"name\": %s, \"shapes\": [", i ? "," : "", dmpl::JsonString(link.name).c_str());
     for (size_t k = 0; k < link.collisions.size(); ++k) {
       const CollisionShape& s = link.collisions[k];
       const char* kind = s.kind == CollisionShape::Kind::kBox      ? "box"
@@ -61,10 +53,10 @@ void Print(const dmpl::HandModel& hand) {
   for (size_t j = 0; j < hand.joints().size(); ++j) {
     const auto& joint = hand.joints()[j];
     std::printf("%s\n  {\"name\": %s, \"type\": \"%s\", \"parent\": %s, \"child\": %s, ", j ? "," : "",
-                Quoted(joint.name).c_str(),
+                dmpl::JsonString(joint.name).c_str(),
                 joint.type == dmpl::JointInfo::Type::kRevolute ? "revolute" : "fixed",
-                Quoted(hand.links()[joint.parent_link].name).c_str(),
-                Quoted(hand.links()[joint.child_link].name).c_str());
+                dmpl::JsonString(hand.links()[joint.parent_link].name).c_str(),
+                dmpl::JsonString(hand.links()[joint.child_link].name).c_str());
     std::printf("\"axis\": [%.17g, %.17g, %.17g], \"origin\": ", joint.axis.x(), joint.axis.y(),
                 joint.axis.z());
     PrintPose(joint.origin);
