@@ -55,6 +55,12 @@ DEFAULT_LCM_URL = "udpm://239.255.76.67:7667?ttl=0"
 RECEIVE_BUFFER_BYTES = 4 * 1024 * 1024
 
 
+def resolve_lcm_url(given=None, configured=None):
+    """The LCM URL: the one given (--lcm-url), else the configured one, else $LCM_DEFAULT_URL,
+    else the dmpl default (as the nodes resolve it)."""
+    return given or configured or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
+
+
 def with_receive_buffer(url):
     """Adds a large socket receive buffer to a udpm URL. At 1 kHz lockstep every process reads
     every message on the group (~5 MB/s); the kernel's default 208 KB fills in 40 ms when a
@@ -250,8 +256,7 @@ class Launcher:
         self.pset = pset
         self.run_dir = Path(run_dir)
         self.run_dir.mkdir(parents=True, exist_ok=True)
-        self.url = with_receive_buffer(
-            lcm_url or pset.lcm_url or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
+        self.url = with_receive_buffer(resolve_lcm_url(lcm_url, pset.lcm_url))
         self.record = pset.record if record is None else record
         self.record_policy = record_policy or pset.record_policy
         if self.record_policy not in RECORD_POLICIES:

@@ -5,7 +5,7 @@
                                         the time, speed = timeScale) in the page it prints
   tools/dmpl view LOG --html FILE       writes one self-contained HTML replay that opens offline
 
-Shown: the hand's links (read from its URDF), the object (shape and size from the run's config,
+Shown: the hand's links (from the project's hand model), the object (shape and size from the run's config,
 for display only), each fingertip contact as a point with an arrow along its normal scaled by its
 force (2 cm per N, into the translucent object), each fingertip coloured by its role (blue grip, orange explore, grey free),
 the sensed (noisy) object pose as a translucent ghost beside the true one, the target
@@ -34,18 +34,19 @@ import numpy as np
 
 from . import channels, experiment
 from .hand_geometry import UrdfError, load_hand, rpy_matrix
-from .logdata import Columns, LogData, LogError, cumulative_rotation, extract, task_axis
+from .launch import resolve_lcm_url
+from .logdata import (ROLE_NAMES, Columns, LogData, LogError, cumulative_rotation, extract,
+                      task_axis)
 from .paths import ROOT
 
 ROLE_COLOURS = {0: 0x9e9e9e, 1: 0x1f77b4, 2: 0xff9800}  # free, grip, explore
-ROLE_NAMES = {0: "free", 1: "grip", 2: "explore"}
 ARROW_M_PER_N = 0.02
 FIELDS = {
     channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
                             "joint_position", "tactile_force", "tactile_in_contact",
                             "tactile_position", "tactile_normal"],
     channels.SENSORS: ["utime", "seq", "object_position", "object_orientation"],
-    channels.SUPERVISOR_STATUS: None, channels.TASK: None, channels.SIM_CONTROL: None,
+    channels.SUPERVISOR_STATUS: None, channels.TASK: None,
     channels.CONTROLLER_REPORT: ["utime", "seq", "target_position"],
     channels.CONTROLLER_STATUS: ["utime", "seq", "target_position"],
 }
@@ -57,7 +58,7 @@ class ViewError(Exception):
 
 def open_visualizer():
     """A Meshcat visualizer with its own local server (quietly: we print the URL ourselves)."""
-    meshcat = _meshcat()[0]
+    meshcat, _ = _meshcat()
     with contextlib.redirect_stdout(io.StringIO()):
         return meshcat.Visualizer()
 
@@ -78,11 +79,10 @@ def _meshcat():
         warnings.filterwarnings("ignore", message=".*zmq.eventloop.ioloop.*")
         import meshcat
         import meshcat.geometry as g
-        import meshcat.transformations as tf
     except ImportError:
         raise ViewError("the Python package 'meshcat' is missing: run tools/dmpl view (it installs "
                         "what is missing) or tools/dmpl setup") from None
-    return meshcat, g, tf
+    return meshcat, g
 
 
 def quat_matrix(q):
@@ -107,9 +107,7 @@ def arrow_matrix(start, direction, length):
     n = np.linalg.norm(d)
     t = np.eye(4)
     if n < 1e-9 or length < 1e-6:
-        t[:3, :3] *= 1e-6
-        t[:3, 3] = start
-        return t
+        return HIDDEN
     y = d / n
     x = np.cross(y, [0.0, 0.0, 1.0])
     if np.linalg.norm(x) < 1e-6:
@@ -127,7 +125,7 @@ class Scene:
     def __init__(self, vis, config, config_path=None):
         """`config`: the run's config (a dict); `config_path`: its file, whose hand the project's
         hand model reads (the defaults without one)."""
-        self.meshcat, self.g, self.tf = _meshcat()
+        self.meshcat, self.g = _meshcat()
         self.vis = vis
         self.config = config
         hand_cfg = config.get("hand", {})
@@ -140,6 +138,10 @@ class Scene:
         self.palm = np.eye(4)
         self.palm[:3, :3] = rpy_matrix(*sim.get("palm_rpy", [0.0, -np.pi / 2, 0.0]))
         self.palm[:3, 3] = sim.get("palm_position", [0.0, 0.0, 0.0])
+        # Bullet's cylinders and capsules lie along z, Meshcat's along y.
+        self.object_fix = np.eye(4)
+        if config.get("object", {}).get("shape", "sphere") in ("cylinder", "capsule"):
+            self.object_fix[:3, :3] = rpy_matrix(np.pi / 2, 0, 0)
         self._build()
 
     def _build(self):
@@ -212,13 +214,6 @@ class Scene:
             return g.Cylinder(float(o.get("length", 0.06)) + 2 * r, r)  # close enough to see
         return g.Sphere(r)
 
-    def object_fix(self):
-        shape = self.config.get("object", {}).get("shape", "sphere")
-        t = np.eye(4)
-        if shape in ("cylinder", "capsule"):  # Bullet's lie along z, Meshcat's along y
-            t[:3, :3] = rpy_matrix(np.pi / 2, 0, 0)
-        return t
-
     def draw(self, node, frame):
         """Poses every object for one frame; `node` is the live visualizer or an animation
         frame of it (both take set_transform and set_property)."""
@@ -227,7 +222,7 @@ class Scene:
         for link, shapes in self.hand.shapes.items():
             if link in poses:
                 root["hand"][link].set_transform(poses[link])
-        fix = self.object_fix()
+        fix = self.object_fix
         true_pose = pose_matrix(frame["object_position"], frame["object_orientation"])
         root["object"]["true"].set_transform(true_pose @ fix)
         root["object"]["true_axes"].set_transform(true_pose)
@@ -235,14 +230,13 @@ class Scene:
             root["object"]["sensed"].set_transform(
                 pose_matrix(frame["sensed_position"], frame["sensed_orientation"]) @ fix)
         goal = frame.get("goal")
-        g = pose_matrix(frame["object_position"], goal) if goal is not None else np.eye(4) * 1e-6
-        g[3, 3] = 1.0
-        root["goal"].set_transform(g)
+        root["goal"].set_transform(pose_matrix(frame["object_position"], goal)
+                                   if goal is not None else HIDDEN)
         for k, f in enumerate(self.fingers):
             tip = poses.get(f + "_tip", np.eye(4))
             role = frame["roles"][k]
             for r, name in ROLE_NAMES.items():
-                root["tips"][f][name].set_transform(tip if r == role else _hidden(tip))
+                root["tips"][f][name].set_transform(tip if r == role else HIDDEN)
             force = frame["force"][k]
             if frame["in_contact"][k]:
                 p = frame["contact_position"][k]
@@ -251,11 +245,10 @@ class Scene:
                 root["contacts"][f]["arrow"].set_transform(
                     arrow_matrix(p, -frame["contact_normal"][k], force * ARROW_M_PER_N))
             else:
-                root["contacts"][f]["point"].set_transform(_hidden(np.eye(4)))
-                root["contacts"][f]["arrow"].set_transform(_hidden(np.eye(4)))
+                root["contacts"][f]["point"].set_transform(HIDDEN)
+                root["contacts"][f]["arrow"].set_transform(HIDDEN)
             target = frame["targets"][k] if frame.get("targets") is not None else None
-            root["targets"][f].set_transform(_at(target) if target is not None
-                                             else _hidden(np.eye(4)))
+            root["targets"][f].set_transform(_at(target) if target is not None else HIDDEN)
 
 
 def _at(p):
@@ -264,12 +257,10 @@ def _at(p):
     return t
 
 
-def _hidden(t):
-    """Scaled to nothing at the origin (an animation cannot add or remove objects; a hidden
-    object that does not move costs no keys)."""
-    h = np.eye(4)
-    h[:3, :3] *= 1e-6
-    return h
+# The pose of a hidden object: scaled to nothing at the origin (an animation cannot add or remove
+# objects; a hidden object that does not move costs no keys).
+HIDDEN = np.diag([1e-6, 1e-6, 1e-6, 1.0])
+HIDDEN.setflags(write=False)
 
 
 def frame_text(frame):
@@ -379,15 +370,15 @@ class Recorder:
                 node = node[name]
             clip = meshcat.animation.AnimationClip(fps=fps)
             tracks = {"position": [], "quaternion": [], "scale": []}
-            frames, last = [], None
-            for k, (frame, m) in enumerate(keys):
-                key = _pose_key(m)
+            poses = [_pose_key(m) for _, m in keys]
+            frames = []
+            for k, (frame, _) in enumerate(keys):
                 # A run of equal poses keeps its first and last key (linear interpolation).
-                if key != last or k == len(keys) - 1 or _pose_key(keys[k + 1][1]) != key:
+                if k in (0, len(keys) - 1) or poses[k] != poses[k - 1] or \
+                        poses[k] != poses[k + 1]:
                     frames.append(frame)
-                    for name, value in zip(tracks, key):
+                    for name, value in zip(tracks, poses[k]):
                         tracks[name].append(list(value))
-                last = key
             scaled = any(v != [1.0, 1.0, 1.0] for v in tracks["scale"])
             for name, jstype in (("position", "vector3"), ("quaternion", "quaternion"),
                                  ("scale", "vector3")):
@@ -448,7 +439,7 @@ OVERLAY = """
 """
 
 
-def write_html(scene, vis, frames, fps, path, title):
+def write_html(vis, frames, fps, path, title):
     """The scene and its animation as one HTML file (Meshcat's own export: the viewer's script
     is inlined), with the text overlay driven by the animation's clock."""
     page = vis.static_html()
@@ -463,33 +454,33 @@ def write_html(scene, vis, frames, fps, path, title):
     return path
 
 
-def write_replay(log_path, html_path, fps=30.0):
-    """The self-contained HTML replay of a log; its path."""
+@contextlib.contextmanager
+def replay(log_path, fps):
+    """A log's scene and animation on a Meshcat server, closed on leaving:
+    (visualizer, frames, title)."""
     frames, config, config_path = read_frames(log_path, fps)
     vis = open_visualizer()
     try:
-        scene = Scene(vis, config, config_path)
-        animate(scene, vis, frames, fps)
+        animate(Scene(vis, config, config_path), vis, frames, fps)
         name = config.get("experiment", {}).get("name", Path(log_path).stem)
-        return write_html(scene, vis, frames, fps, html_path,
-                          f"dmpl {name}: {Path(log_path).name}")
+        yield vis, frames, f"dmpl {name}: {Path(log_path).name}"
     finally:
         close_visualizer(vis)
+
+
+def write_replay(log_path, html_path, fps=30.0):
+    """The self-contained HTML replay of a log; its path."""
+    with replay(log_path, fps) as (vis, frames, title):
+        return write_html(vis, frames, fps, html_path, title)
 
 
 def view_log(log_path, fps=30.0):
     """Serves a log's replay until Ctrl-C."""
-    frames, config, config_path = read_frames(log_path, fps)
-    vis = open_visualizer()
-    try:
-        scene = Scene(vis, config, config_path)
-        animate(scene, vis, frames, fps)
+    with replay(log_path, fps) as (vis, frames, _):
         print(f"view: open {vis.url()}  ({len(frames)} frames at {fps:g} Hz; Open Controls > "
               "Animations: play, pause, time to scrub, timeScale for the speed; Ctrl-C ends)",
               flush=True)
         _wait()
-    finally:
-        close_visualizer(vis)
 
 
 # --- live ---------------------------------------------------------------------------------------
@@ -565,7 +556,7 @@ def live_frame(msgs, fingers, state):
 def view_live(lcm_url, config, fps=15.0, duration_s=None, config_path=None):
     """Draws the running set until Ctrl-C (or duration_s)."""
     from .bus import Buses
-    _, g, _ = _meshcat()
+    _, g = _meshcat()
     vis = open_visualizer()
     scene = Scene(vis, config, config_path)
     print(f"view: open {vis.url()}  (listening on {lcm_url}; Ctrl-C ends)", flush=True)
@@ -663,9 +654,7 @@ def main(argv=None):
             return 2
         cfg_path = args.config or str(ROOT / "configs/experiments/demo.yaml")
         config = experiment.resolve(cfg_path, (), (), None)
-        from .launch import DEFAULT_LCM_URL
-        url = (args.lcm_url or config.get("run", {}).get("lcm_url") or
-               os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL)
+        url = resolve_lcm_url(args.lcm_url, config.get("run", {}).get("lcm_url"))
         # The hand model reads the resolved config (an experiment's bases merged).
         resolved = tempfile.NamedTemporaryFile("w", suffix=".yaml", prefix="dmpl-view-",
                                                delete=False)
