@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 import mp
+from devtools import Browser
 from dmpl_tools import channels, view
 from dmpl_tools.hand_geometry import load_hand
 from dmpl_tools.logdata import Columns, extract
@@ -50,6 +51,18 @@ const timer = setInterval(function() {
   document.body.appendChild(pre);
 }, 200);
 </script></body>"""
+
+
+# Read in the live page: its clock (x: the sim time of the frame being drawn, y: of the last one
+# drawn completely) and the object's pose as drawn (Meshcat decomposes each transform it receives
+# into these).
+LIVE_PROBE = """(function() {
+  if (!("clock" in viewer.scene_tree.find(["meshcat", "dmpl"]).children)) return null;
+  const node = (p) => viewer.scene_tree.find(["meshcat", "dmpl"].concat(p)).object;
+  const o = node(["object", "true_axes"]), clock = node(["clock"]).position;
+  return {t: clock.x, done: clock.y, p: [o.position.x, o.position.y, o.position.z],
+          q: [o.quaternion.w, o.quaternion.x, o.quaternion.y, o.quaternion.z]};
+})()"""
 
 
 class ViewTest(unittest.TestCase):
@@ -198,6 +211,75 @@ class ViewTest(unittest.TestCase):
                     "max_position_drift_m", "grip_force_total_n", "regrasps", "sim_time_s"):
             self.assertEqual(with_view[key], without[key], key)
 
+
+class LiveBrowserTest(unittest.TestCase):
+    def test_the_live_page_draws_the_truth_of_the_instant_it_shows(self):
+        # `tools/dmpl view` (as a user starts it), headless Chromium on the URL it prints, and a
+        # short lockstep run on the set's bus, recorded. While it runs, the page is sampled:
+        # which instant it shows (the frame's stamp) and where it draws the object. The run
+        # keeps one CPU (the viewer, the browser and the recorder share the other, as on a
+        # user's machine with more CPUs than the loop needs).
+        out = Path(tempfile.mkdtemp(prefix="dmpl_live_"))
+        self.addCleanup(shutil.rmtree, out, ignore_errors=True)
+        fps = 15.0
+        viewer = subprocess.Popen(
+            [sys.executable, "-m", "dmpl_tools.view", "--config", EXP + "fig10_gait_sphere.yaml",
+             "--lcm-url", mp.URL, "--fps", str(fps), "--duration", "120"],
+            cwd=mp.ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.addCleanup(lambda: (viewer.kill(), viewer.wait(), viewer.stdout.close()))
+        url = None
+        for line in viewer.stdout:
+            found = re.search(r"view: open (\S+)", line)
+            if found:
+                url = found.group(1)
+                break
+        self.assertIsNotNone(url, "the viewer printed no URL")
+        browser = Browser(url, idle=True)
+        self.addCleanup(browser.close)
+        browser.wait_for("typeof viewer != 'undefined' && Object.keys(viewer.scene_tree.find("
+                         "['meshcat', 'dmpl', 'hand']).children).length > 0", 60,
+                         "the live page to build the hand")
+        # The truth as the viewer gets it (the simulator's copy for viewers, 30 Hz), every
+        # message kept while the page is asked (LCM's queue holds 30 by default).
+        from dmpl import hand_sensors_t
+        truth = {}
+
+        def keep(channel, data):
+            m = hand_sensors_t.decode(data)
+            truth[round(m.utime * 1e-6, 6)] = m.object
+        bus = mp.Bus()
+        bus.buses.subscribe(channels.VIEW_TRUTH, keep).set_queue_capacity(100000)
+        result = {}
+        run = threading.Thread(target=lambda: result.update(run_experiment(
+            EXP + "fig10_gait_sphere.yaml", out, echo=False, sets=["task.angle=12.0"],
+            record=False, cpus=[-1])[0]))
+        run.start()
+        samples = []
+        while run.is_alive():
+            bus.spin(0.1)
+            drawn = browser.evaluate(LIVE_PROBE)
+            if drawn and drawn["done"] >= 0:  # a frame has been drawn
+                samples.append(drawn)
+        run.join()
+        bus.spin(0.2)
+        self.assertEqual(result["exit_code"], 0, result.get("problems"))
+        # The page receives frames: it showed several instants of the run.
+        stamps = sorted({s["done"] for s in samples})
+        self.assertGreaterEqual(len(stamps), 5, f"{len(samples)} samples")
+        # The object drawn is the truth of the instant the page shows; a sample taken while a
+        # frame arrives finds the pose of that frame or of the one before: within one frame.
+        # The live view sends a pose when it moved by its resolution (10 um, 1e-5 in the
+        # quaternion): the drawn pose is the truth's to that.
+        for s in samples:
+            missing = [x for x in {s["done"], s["t"]} if round(x, 6) not in truth]
+            self.assertFalse(missing, f"no truth message at {missing} s: "
+                             f"{sorted(truth)[:3]}..{sorted(truth)[-3:]} ({len(truth)})")
+            shown = [truth[round(x, 6)] for x in {s["done"], s["t"]}]
+            error = [np.linalg.norm(np.subtract(o.position, s["p"])) for o in shown]
+            turn = [1.0 - abs(np.dot(o.orientation, s["q"])) for o in shown]
+            self.assertTrue(any(e < 1e-5 and a < 1e-9 for e, a in zip(error, turn)),
+                            f"drawn with the clock at {s['done']:.3f} s (drawing {s['t']:.3f}): "
+                            f"{s['p']}; the truth then: {[o.position for o in shown]}")
 
 if __name__ == "__main__":
     sys.exit(unittest.main())

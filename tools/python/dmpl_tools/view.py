@@ -568,7 +568,7 @@ def view_live(lcm_url, config, fps=15.0, duration_s=None, config_path=None):
     for ch in (channels.VIEW_TRUTH, channels.VIEW_SENSED, channels.SUPERVISOR_STATUS,
                channels.TASK):
         buses.subscribe(ch, latest)
-    state, drawn, last_text = {}, 0, 0.0
+    state, drawn, last_text, shown = {}, 0, 0.0, -1.0
     sink = ChangedOnly(vis)
     start = time.monotonic()
     try:
@@ -577,7 +577,13 @@ def view_live(lcm_url, config, fps=15.0, duration_s=None, config_path=None):
             buses.handle(0)
             frame = live_frame(latest.take(), scene.fingers, state)
             if frame is not None:
+                # The page's clock: x the sim time of the frame being drawn, y that of the last
+                # frame drawn completely (a page, or a test, reads which instant it shows).
+                clock = vis["dmpl"]["clock"]
+                clock.set_transform(_at([frame["t"], shown, 0.0]))
                 scene.draw(sink, frame)
+                shown = frame["t"]
+                clock.set_transform(_at([shown, shown, 0.0]))
                 drawn += 1
                 if tick - last_text > 0.25:
                     _live_text(vis, g, frame_text(frame))
