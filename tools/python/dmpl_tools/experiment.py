@@ -4,6 +4,7 @@ The semantics match the C++ runtime (components/runtime/params.cc): --set key.pa
 value as YAML and creates intermediate maps; --params files are merged map by map.
 """
 import copy
+import re
 import subprocess
 from pathlib import Path
 
@@ -68,6 +69,9 @@ def load_yaml(path):
             data = yaml.safe_load(f)
     except OSError as e:
         raise ExperimentError(f"cannot open '{path}': {e.strerror}") from None
+    except (UnicodeDecodeError, ValueError):
+        raise ExperimentError(f"{path}: not a YAML text file (it holds bytes that are not UTF-8 "
+                              "text)") from None
     except yaml.YAMLError as e:
         raise ExperimentError(f"{path}: YAML syntax error: {e}") from None
     if data is None:
@@ -123,20 +127,44 @@ def resolve(path, params_files=(), sets=(), seed=None):
     return config
 
 
-def check_processes(config_path, config):
-    """Asks every process of the experiment to validate the resolved config (--check)."""
+def check_processes(config_path, config, sets=()):
+    """Asks every process of the experiment to validate the resolved config (--check). A
+    refusal is one error with what the process wrote (a URDF parser's messages included), and
+    names the --set that gave the value when one did."""
     for p in config["processes"]:
         exe = p.get("exec")
         if not exe or not str(exe).startswith("dmpl_"):
             continue
         try:
             r = subprocess.run([executable(exe), "--config", str(config_path), "--check"],
-                               capture_output=True, text=True, timeout=60)
+                               capture_output=True, text=True, errors="replace", timeout=60)
         except FileNotFoundError as e:
             raise ExperimentError(str(e)) from None
         if r.returncode != 0:
-            msg = (r.stderr or r.stdout).strip().splitlines()
-            raise ExperimentError(msg[-1] if msg else f"{exe} --check failed ({r.returncode})")
+            lines = [_LOG_PREFIX.sub("", line).rstrip()
+                     for line in (r.stderr or r.stdout).strip().splitlines()]
+            lines = [line for line in lines if line.strip()][-20:]
+            if not lines:
+                raise ExperimentError(f"{exe} --check failed ({r.returncode})")
+            if len(lines) == 1:
+                raise ExperimentError(f"{exe}: {lines[0]}{_from_set(lines[0], sets)}")
+            # What led to the verdict (a parser's messages), then the verdict, as it printed them.
+            raise ExperimentError(f"{exe} refused the config:" + "".join(
+                f"\n  {line}" for line in lines) + _from_set(lines[-1], sets))
+
+
+# "[12:20:55.328] [dmpl_sim] [critical] " before each line a node logs.
+_LOG_PREFIX = re.compile(r"^\[[0-9:.]+\] \[[^]]*\] \[[a-z]+\] ")
+
+
+def _from_set(message, sets):
+    """' (given with --set KEY=VALUE)' when the key `message` names came from a --set."""
+    named = re.findall(r"key '([^']+)'", message)
+    for assignment in reversed(sets):  # the last --set of a key is the one that counts
+        key = assignment.partition("=")[0]
+        if any(n == key or n.startswith(key + ".") for n in named):
+            return f" (given with --set {assignment})"
+    return ""
 
 
 def sensing_view(config):

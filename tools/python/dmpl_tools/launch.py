@@ -250,9 +250,10 @@ class Launcher:
     """Runs a ProcessSet until it ends, a stop is requested, or a duration passes."""
 
     def __init__(self, pset, run_dir, lcm_url=None, record=None, echo=True, single_bus=False,
-                 record_policy=None, columns=None):
+                 record_policy=None, columns=None, check_url=True):
         """record: run the recorder (default: the set's `record`); record_policy: what its log
-        keeps (default: the set's); columns: (DIR, FIELDS_REGEX) to extract online."""
+        keeps (default: the set's); columns: (DIR, FIELDS_REGEX) to extract online; check_url:
+        refuse a URL another run is heard on (refuse_if_in_use)."""
         self.pset = pset
         self.run_dir = Path(run_dir)
         self.run_dir.mkdir(parents=True, exist_ok=True)
@@ -279,6 +280,8 @@ class Launcher:
         self._lcm_mod = lcm
         self._heartbeat_t = heartbeat_t
         self.lc = lcm.LCM(self.url)
+        if check_url:
+            refuse_if_in_use(self.url, self.lc)
         self.lc.subscribe(channels.HEARTBEAT, self._on_heartbeat)
         # LCM is drained every loop (every 50 ms) rather than on each packet: at 1 kHz lockstep
         # every process on the bus gets ~10 000 packets a second, and waking this Python process
@@ -311,9 +314,15 @@ class Launcher:
             hb = self._heartbeat_t.decode(data)
         except ValueError:
             return
+        try:
+            group = os.getpgid(hb.pid)
+        except (ProcessLookupError, PermissionError, OverflowError):
+            return  # not a process of this machine's: not ours
         for p in self.procs:
-            # A process is known by its name, or by its pid (several nodes may share a name).
-            if hb.process == p.spec.name or (p.popen and hb.pid == p.popen.pid):
+            # A process is known by its process group (each starts its own: a node under a
+            # wrapper script, or every node of dmpl_oneprocess, beats with a pid in it), never by
+            # its name, which a process of another run on this URL may share.
+            if p.popen and group == p.popen.pid and p.popen.poll() is None:
                 p.last_heartbeat = hb.utime
                 p.heartbeat_seen = True
 
@@ -472,10 +481,14 @@ class Launcher:
             return
         proc.state = "exited" if code == 0 else "failed"
         if code != 0 or spec.auto_respawn:
-            if spec.required:
-                self.failed.append(spec.name)
             self.say(f"{spec.name} {'failed' if code else 'exited'} ({how})"
                      + (", restart limit reached" if spec.auto_respawn else ""))
+            if spec.required:
+                # The set cannot do its job without it: end the run now rather than let the
+                # others wait for it until a timeout.
+                self.failed.append(spec.name)
+                self.request_stop(f"{spec.name}, a required process, {'failed' if code else 'exited'}"
+                                  f" ({how})")
         else:
             self.say(f"{spec.name} exited ({how})")
 
@@ -575,6 +588,44 @@ class Launcher:
             self.say(f"failed: {', '.join(sorted(set(self.failed)))}")
             return 1
         return 0
+
+
+# Every launcher sends its status every 0.5 s (status_period_s): listening this long hears a run
+# that is going on.
+IN_USE_LISTEN_S = 0.6
+
+
+def refuse_if_in_use(url, lc=None, listen_s=IN_USE_LISTEN_S):
+    """Raises SetError when another run's launcher is heard on `url`: two runs on one URL would
+    take each other's messages. Nodes started by hand are not a run (a user or a test may play
+    one process of the set). memq:// is private to a process."""
+    if not url.startswith("udpm://"):
+        return
+    if lc is None:
+        import lcm
+        lc = lcm.LCM(url)
+    heard = []
+
+    def on_status(channel, data):
+        from dmpl import process_status_t
+        try:
+            status = process_status_t.decode(data)
+            heard.append(f"the launcher of '{status.set_name}' (run directory {status.run_dir})")
+        except ValueError:
+            heard.append("a launcher")
+
+    sub = lc.subscribe(channels.PROCESS_STATUS, on_status)
+    end = time.monotonic() + listen_s
+    try:
+        while not heard and time.monotonic() < end:
+            lc.handle_timeout(max(1, int((end - time.monotonic()) * 1000)))
+    finally:
+        lc.unsubscribe(sub)
+    if heard:
+        raise SetError(f"another run is using the LCM URL {url}: heard {heard[0]}. Two runs on "
+                       "one URL take each other's messages: stop it, or give this run a URL of "
+                       "its own (--lcm-url with another port, e.g. "
+                       "udpm://239.255.76.67:7670?ttl=0)")
 
 
 def _child_setup(cpus):

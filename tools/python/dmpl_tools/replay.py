@@ -23,7 +23,7 @@ import time
 import lcm
 
 from .bus import Buses
-from .launch import DEFAULT_LCM_URL
+from .launch import DEFAULT_LCM_URL, SetError, refuse_if_in_use
 
 
 def seq_of(data):
@@ -117,6 +117,11 @@ def main(argv=None):
         return 2
     except StopIteration:
         print(f"dmpl replay: no events match '{args.channels}' in {args.log}", file=sys.stderr)
+        return 2
+    try:
+        refuse_if_in_use(url)
+    except SetError as e:
+        print(f"dmpl replay: {e}", file=sys.stderr)
         return 2
     player = Replayer(url, separate=not args.single_bus)
     print(f"dmpl replay: {args.log} onto {url}", file=sys.stderr)

@@ -15,7 +15,8 @@ import traceback
 from pathlib import Path
 
 from . import experiment, metrics
-from .launch import RECORD_POLICIES, Launcher, SetError, parse_set
+from .launch import (RECORD_POLICIES, Launcher, SetError, parse_set, refuse_if_in_use,
+                     resolve_lcm_url, with_receive_buffer)
 from .logdata import Columns, LogData, extract, fields_regex
 from .paths import BUILD, ROOT
 
@@ -45,11 +46,18 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     policy = record_policy(config, record)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
-    out.mkdir(parents=True, exist_ok=True)
     resolved, sensing = out / "config.yaml", out / "config.sensing.yaml"
-    experiment.write(config, resolved)
-    experiment.write(experiment.sensing_view(config), sensing)
-    experiment.check_processes(resolved, config)
+    url = with_receive_buffer(resolve_lcm_url(lcm_url or config.get("run", {}).get("lcm_url")))
+    if not one_process:
+        refuse_if_in_use(url)  # before anything in OUT is touched
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        experiment.write(config, resolved)
+        experiment.write(experiment.sensing_view(config), sensing)
+    except OSError as e:
+        raise experiment.ExperimentError(f"cannot write the run's directory '{out}': "
+                                         f"{e.strerror or e}") from None
+    experiment.check_processes(resolved, config, sets)
     variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved),
                  "sensing_config": str(sensing)}
     log_path, columns_dir = out / "run.lcmlog", out / "columns"
@@ -75,10 +83,14 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     if cpus:
         set_data["cpus"] = list(cpus)
     pset = parse_set(set_data, f"{config_path}: processes", variables)
-    launcher = Launcher(pset, out, lcm_url=lcm_url or config.get("run", {}).get("lcm_url") or None,
-                        echo=echo, record=columns is not None and not one_process,
-                        single_bus=not config.get("run", {}).get("channel_buses", True),
-                        record_policy=policy, columns=columns)
+    try:
+        launcher = Launcher(pset, out, lcm_url=url, echo=echo,
+                            record=columns is not None and not one_process,
+                            single_bus=not config.get("run", {}).get("channel_buses", True),
+                            record_policy=policy, columns=columns, check_url=False)
+    except OSError as e:
+        raise experiment.ExperimentError(f"cannot write the run's logs in '{out}': "
+                                         f"{e.strerror or e}") from None
     if progress:
         progress.attach(launcher)
     launcher.say(f"experiment '{name}' -> {out} (LCM {launcher.url})")
@@ -104,8 +116,11 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     summary["exit_code"] = code
     summary["mode"] = "one-process" if one_process else "multi-process"
     timed_out = launcher.ended_by is None and str(launcher.stop_requested).startswith("duration")
+    interrupted = launcher.stop_requested in ("SIGINT", "SIGTERM")
     if timed_out:
         problems.append("wall-clock timeout")
+    if interrupted:
+        problems.append(f"interrupted ({launcher.stop_requested})")
     if code != 0:
         problems.append(f"process failure: {', '.join(sorted(set(launcher.failed)))}")
     if summary.get("object_dropped") and not config["metrics"]["allow_drop"]:
@@ -119,10 +134,18 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     if "error" in summary:
         problems.append(summary["error"])
     summary = strict_json(summary, problems)  # numpy -> JSON's types; NaN -> null + a problem
-    summary["status"] = "timeout" if timed_out else ("failed" if problems else "success")
+    summary["status"] = ("interrupted" if interrupted else "timeout" if timed_out else
+                         "failed" if problems else "success")
     if problems:
         summary["problems"] = problems
-    write_summary(out / "summary.json", summary)
+    try:
+        write_summary(out / "summary.json", summary)
+    except OSError as e:  # a full or vanished disk: the result still reaches the user
+        summary.setdefault("problems", []).append(
+            f"{out / 'summary.json'} could not be written: {e.strerror or e}")
+        summary["status"] = "failed"
+        print(f"dmpl run: error: cannot write {out / 'summary.json'} ({e.strerror or e}); the "
+              f"summary:\n{json.dumps(summary, indent=2, sort_keys=True)}", file=sys.stderr)
     return summary, out
 
 
@@ -174,8 +197,12 @@ def strict_json(value, problems, key="summary"):
 def write_summary(path, summary):
     """Writes summary.json atomically (a partial file never replaces a complete one)."""
     tmp = Path(path).with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(summary, indent=2, sort_keys=True, allow_nan=False))
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(json.dumps(summary, indent=2, sort_keys=True, allow_nan=False))
+        os.replace(tmp, path)
+    except OSError:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def _pinned(processes, pins):
@@ -269,6 +296,8 @@ def main(argv=None):
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2
     print_headline(summary, out)
+    if summary["status"] == "interrupted":
+        return 130  # the shell's code for Ctrl-C
     return 0 if summary["status"] == "success" else 1
 
 
