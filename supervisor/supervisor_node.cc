@@ -90,15 +90,18 @@ class SupervisorNode : public Node {
     if (core_.goals().reached() != goals_before) {
       log().info("t = {:.3f} s: {}", view.time_s, core_.note());
     }
+    // A request to the simulator rides with the task (task_cmd_t.sim_command): the simulator
+    // applies it with the joint command planned from this task, before it steps from tick
+    // seq + 1, in every run at the same tick.
+    int8_t sim_command = 0;
+    std::string reason;
     if (out.sim != SimRequest::kNone) {
-      sim_control_t c{};
-      c.utime = m->utime;
-      c.seq = m->seq;  // takes effect before the simulator steps from this tick
-      c.command = out.sim == SimRequest::kRelease ? sim_control_t::RELEASE : sim_control_t::STOP;
-      c.reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
-      lcm(channels::kSimControl).publish(channels::kSimControl, &c);
+      sim_command = out.sim == SimRequest::kRelease ? sim_control_t::RELEASE : sim_control_t::STOP;
+      reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
+      log().info("t = {:.3f} s: asks the simulator to {} ({})", view.time_s,
+                 sim_command == sim_control_t::RELEASE ? "release the object" : "stop", reason);
     }
-    PublishTask(out.task, m->seq, m->utime);
+    PublishTask(out.task, m->seq, m->utime, sim_command, reason);
     if (out.changed || m->seq % params_.status_every_ticks == 0) PublishStatus(m->seq, m->utime);
     last_seq_ = m->seq;
     last_utime_ = m->utime;
@@ -112,8 +115,11 @@ class SupervisorNode : public Node {
     return -1;
   }
 
-  void PublishTask(const TaskInput& t, int64_t seq, int64_t utime) {
+  void PublishTask(const TaskInput& t, int64_t seq, int64_t utime, int8_t sim_command,
+                   const std::string& reason) {
     task_cmd_t m{};
+    m.sim_command = sim_command;
+    m.sim_command_reason = reason;
     m.utime = utime;
     m.seq = seq;
     m.task_id = t.task_id;

@@ -129,7 +129,7 @@ class ControllerNode : public Node {
     }
     // Kept by seq: tick k uses the answer to tick k - 1 even if the next one arrives first
     // (a replay on several buses can deliver it early).
-    tasks_[m->seq] = t;
+    tasks_[m->seq] = {std::move(t), m->sim_command};
     while (tasks_.size() > 64) tasks_.erase(tasks_.begin());
     if (m->task_id != last_task_id_) {
       last_task_id_ = m->task_id;
@@ -152,7 +152,14 @@ class ControllerNode : public Node {
     const int64_t wanted =
         lockstep_ && wait_for_task_ ? tick - 1 : std::numeric_limits<int64_t>::max();
     const auto it = tasks_.upper_bound(wanted);
-    if (it != tasks_.begin()) task_ = std::prev(it)->second;
+    targets_.sim_command = 0;
+    if (it != tasks_.begin()) {
+      const auto& [task_seq, arrived] = *std::prev(it);
+      task_ = arrived.input;
+      // The task's command to the simulator goes on with the first targets planned from it.
+      if (task_seq != forwarded_task_seq_) targets_.sim_command = arrived.sim_command;
+      forwarded_task_seq_ = task_seq;
+    }
     const ControllerOutput& out = core_.Step(sensed_, task_);
     const int64_t utime = static_cast<int64_t>(sensed_.time_s * 1e6 + 0.5);
     targets_.utime = utime;
@@ -230,7 +237,12 @@ class ControllerNode : public Node {
   SensedInput sensed_;                             // the tick being computed
   std::map<int64_t, SensedInput> sensed_by_seq_;   // arrived, not yet computed
   TaskInput task_;
-  std::map<int64_t, TaskInput> tasks_;  // by seq
+  struct ArrivedTask {
+    TaskInput input;
+    int8_t sim_command = 0;  // task_cmd_t.sim_command
+  };
+  std::map<int64_t, ArrivedTask> tasks_;  // by seq
+  int64_t forwarded_task_seq_ = std::numeric_limits<int64_t>::min();
   int32_t last_task_id_ = -1;
   finger_targets_t targets_{};
   controller_status_t status_{};

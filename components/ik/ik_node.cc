@@ -76,6 +76,7 @@ class IkNode : public Node {
     const std::vector<double>& q = ik_.Step(targets_.joint_position, targets);
     cmd_.utime = targets_.utime;
     cmd_.seq = tick;
+    cmd_.sim_command = targets_.sim_command;
     cmd_.position = q;
     status_.utime = targets_.utime;
     status_.seq = tick;

@@ -308,6 +308,8 @@ bool AddTask(LogColumns::Channel* ch, const task_cmd_t& m) {
   t.PutArray("role", role.data(), {role.size()});
   t.PutArray("primitive", primitive.data(), {primitive.size()});
   t.PutArray("force", force.data(), {force.size()});
+  t.Put("sim_command", m.sim_command);
+  t.PutString("sim_command_reason", m.sim_command_reason);
   t.EndRow();
   return true;
 }

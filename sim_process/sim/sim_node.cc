@@ -253,6 +253,15 @@ class SimNode : public Node {
       }
       PublishStatus();
     }
+    if (cmd.sim_command != 0) {
+      // The supervisor's request, planned with this command (task_cmd_t.sim_command): it acts
+      // now, before the step that applies the command, as a SIM_CONTROL of seq - 1 would.
+      sim_control_t control{};
+      control.seq = cmd.seq - 1;
+      control.command = cmd.sim_command;
+      control.reason = "the task's, with joint command " + std::to_string(cmd.seq);
+      Apply(control);
+    }
   }
 
   void ApplyControls() {

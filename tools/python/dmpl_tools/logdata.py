@@ -153,9 +153,16 @@ class LogData:
                                   "valid": _get(table, "object_valid", (), bool)})
 
     def _read_sim(self, columns):
+        # Requests to the simulator: on SIM_CONTROL (people, tools) and with the supervisor's
+        # tasks (task_cmd_t.sim_command, acting as a SIM_CONTROL of the task's seq would).
         control = columns.table(channels.SIM_CONTROL)
-        self.controls = list(zip(control.get("seq", []), control.get("command", []),
-                                 control.get("reason", [])))
+        task = columns.table(channels.TASK)
+        self.controls = sorted(
+            list(zip(control.get("seq", []), control.get("command", []),
+                     control.get("reason", []))) +
+            [(s, c, r) for s, c, r in zip(task.get("seq", []), task.get("sim_command", []),
+                                          task.get("sim_command_reason", [])) if c != 0],
+            key=lambda c: c[0])
         status = columns.table(channels.SIM_STATUS)
         self.sim_status = None
         if len(status.get("seq", ())):
