@@ -32,6 +32,7 @@ class SupervisorNode : public Node {
         fingers_(fingers),
         core_(fingers, std::move(tasks), task_params, params,
               static_cast<uint64_t>(ctx.run.seed)) {
+    KeepForResend(ctx.run, 4);
     listen(channels::kControllerReport).subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
     listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
     AddTimer(0.2, [this] { CheckHeartbeats(); });
@@ -59,6 +60,8 @@ class SupervisorNode : public Node {
   }
 
   void OnReport(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
+    if (answered_any_ && m->seq <= last_seq_) return;  // a copy of a report already answered
+    answered_any_ = true;
     ControllerView view;
     view.seq = m->seq;
     view.time_s = m->utime * 1e-6;
@@ -144,7 +147,7 @@ class SupervisorNode : public Node {
       m.fingers.push_back(p);
     }
     m.num_fingers = static_cast<int8_t>(m.fingers.size());
-    lcm(channels::kTask).publish(channels::kTask, &m);
+    PublishLoop(channels::kTask, m);
   }
 
   void PublishStatus(int64_t seq, int64_t utime) {
@@ -188,6 +191,7 @@ class SupervisorNode : public Node {
   std::map<std::string, double> last_beat_;
   double started_ = MonotonicSeconds();
   int64_t last_seq_ = 0;
+  bool answered_any_ = false;
   int64_t last_utime_ = 0;
 };
 

@@ -50,7 +50,9 @@ class ControllerNode : public Node {
         kin_(model_),
         core_(kin_, params, 0.001),
         report_period_(params.report_period_ticks),
-        gate_(MakeGate(params.wait_for_task, params.report_period_ticks)) {
+        gate_(MakeGate(params.wait_for_task, params.report_period_ticks,
+                       ctx.run.resend_after_s > 0)) {
+    KeepForResend(ctx.run, 8);  // targets and reports
     const int nf = kin_.num_fingers();
     task_.fingers.resize(nf);
     sensed_.tips.resize(nf);
@@ -69,10 +71,10 @@ class ControllerNode : public Node {
  private:
   enum Input : size_t { kSensorsIn = 0, kTaskIn = 1 };
 
-  static LockstepGate MakeGate(bool wait_for_task, int report_period) {
+  static LockstepGate MakeGate(bool wait_for_task, int report_period, bool consecutive) {
     std::vector<LockstepGate::Input> inputs = {{"sensors", 0, 0}};
     if (wait_for_task) inputs.push_back({"task", -1, 1, report_period});
-    return LockstepGate(inputs);
+    return LockstepGate(inputs, consecutive);
   }
 
   void Arrived(Input input, int64_t seq) {
@@ -86,6 +88,7 @@ class ControllerNode : public Node {
   }
 
   void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* m) {
+    if (lockstep_ && m->seq <= gate_.last_tick()) return;  // a copy of a tick already computed
     // Kept by seq: with an actuation delay the simulator runs ahead, and the sensed data of
     // tick k + 1 can arrive while tick k still waits for its task.
     SensedInput& in = sensed_by_seq_[m->seq];
@@ -156,8 +159,10 @@ class ControllerNode : public Node {
     if (it != tasks_.begin()) {
       const auto& [task_seq, arrived] = *std::prev(it);
       task_ = arrived.input;
-      // The task's command to the simulator goes on with the first targets planned from it.
-      if (task_seq != forwarded_task_seq_) targets_.sim_command = arrived.sim_command;
+      // The task's command to the simulator goes on with the first targets planned from it
+      // (lockstep: delivered, or sent again); in real time with every one planned from it, as
+      // any of them may be lost (the simulator's RELEASE and STOP may come twice).
+      if (task_seq != forwarded_task_seq_ || !lockstep_) targets_.sim_command = arrived.sim_command;
       forwarded_task_seq_ = task_seq;
     }
     const ControllerOutput& out = core_.Step(sensed_, task_);
@@ -171,7 +176,7 @@ class ControllerNode : public Node {
       t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;
       for (int i = 0; i < 3; ++i) t.position[i] = out.fingers[f].target[i];
     }
-    lcm(channels::kFingerTargets).publish(channels::kFingerTargets, &targets_);
+    PublishLoop(channels::kFingerTargets, targets_);
 
     status_.utime = utime;
     status_.seq = tick;
@@ -221,7 +226,7 @@ class ControllerNode : public Node {
       std::swap(status_.events, report_events_);
       status_.num_events = static_cast<int16_t>(std::min<size_t>(status_.events.size(), 32767));
       status_.events.resize(status_.num_events);
-      lcm(channels::kControllerReport).publish(channels::kControllerReport, &status_);
+      PublishLoop(channels::kControllerReport, status_);
       report_events_.clear();
     }
     set_tick(tick);

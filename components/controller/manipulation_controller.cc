@@ -124,6 +124,12 @@ void ManipulationController::UpdateContacts(const SensedInput& in) {
   for (int f = 0; f < kin_.num_fingers(); ++f) {
     FingerState& s = fingers_[f];
     const bool raw = in.tips[f].in_contact && in.tips[f].force > params_.contact_threshold_n;
+    if (!has_contacts_) {
+      // No history to debounce against: the first reading is the state (a controller restarted
+      // mid-grasp holds the object at once; at a run's start every finger is open anyway).
+      s.contact = raw;
+      continue;
+    }
     if (raw == s.contact) {
       s.contact_count = 0;
       continue;
@@ -140,6 +146,7 @@ void ManipulationController::UpdateContacts(const SensedInput& in) {
                                                                : " left the surface"));
     }
   }
+  has_contacts_ = true;
 }
 
 void ManipulationController::ApplyTask(const TaskInput& task,

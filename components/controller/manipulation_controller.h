@@ -155,6 +155,7 @@ class ManipulationController {
   ControllerOutput out_;
   int32_t task_id_ = -1;
   bool has_estimate_ = false;
+  bool has_contacts_ = false;  // the contact state was taken from a first reading
   Eigen::Isometry3d estimate_ = Eigen::Isometry3d::Identity();
   bool has_reference_ = false;
   Eigen::Isometry3d reference_ = Eigen::Isometry3d::Identity();

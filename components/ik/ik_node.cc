@@ -7,6 +7,7 @@
 #include "components/ik/hand_ik.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
+#include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
 #include "dmpl/finger_targets_t.hpp"
@@ -30,6 +31,7 @@ class IkNode : public Node {
     status_.num_fingers = static_cast<int8_t>(kin_.num_fingers());
     status_.fingers.resize(kin_.num_fingers());
     for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
+    KeepForResend(ctx.run, 4);
     listen(channels::kFingerTargets).subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
   }
 
@@ -46,12 +48,21 @@ class IkNode : public Node {
         return;
       }
     }
-    if (lockstep_) {
-      if (m->seq <= last_seq_) return;  // every tick answered once
-      last_seq_ = m->seq;
+    if (!lockstep_) {
+      targets_ = *m;
+      Solve(m->seq);
+      return;
     }
-    targets_ = *m;
-    Solve(m->seq);
+    // Every tick answered once, in order (a lost one is sent again; those after it wait).
+    using Verdict = InOrder<finger_targets_t>::Verdict;
+    if (in_order_.Arrive(m->seq, *m, &ready_) == Verdict::kTooFarAhead) {
+      Reject("targets for tick " + std::to_string(m->seq) + ", far ahead of tick " +
+             std::to_string(in_order_.next()) + ": not adopted");
+    }
+    for (finger_targets_t& t : ready_) {
+      targets_ = std::move(t);
+      Solve(targets_.seq);
+    }
   }
 
   void Reject(const std::string& why) {
@@ -96,7 +107,7 @@ class IkNode : public Node {
       last_status_[f] = status_.fingers[f].status;
     }
     if (changed || tick % 10 == 0) lcm(channels::kIkStatus).publish(channels::kIkStatus, &status_);
-    lcm(channels::kJointCmd).publish(channels::kJointCmd, &cmd_);
+    PublishLoop(channels::kJointCmd, cmd_);
     set_tick(tick);
   }
 
@@ -105,7 +116,8 @@ class IkNode : public Node {
   HandKinematics kin_;
   HandIk ik_;
   finger_targets_t targets_{};
-  int64_t last_seq_ = -1;
+  InOrder<finger_targets_t> in_order_;
+  std::vector<finger_targets_t> ready_;
   joint_cmd_t cmd_{};
   ik_status_t status_{};
   std::vector<int8_t> last_status_ = std::vector<int8_t>(8, -1);

@@ -19,10 +19,13 @@ struct RunParams {
   bool channel_buses = true;       // udpm: each group of channels on its own port (channels.h)
   double tick_timeout_s = 2.0;     // lockstep: a missing answer after this long is a fault
   int max_tick_faults = 5;         // lockstep: give up (exit non-zero) after this many faults
+  double resend_after_s = 0.005;   // lockstep: a node sends its last messages again when the
+                                   // loop has stalled this long (a lost message; 0: never)
   double heartbeat_period_s = 0.25;
   std::vector<std::string> lockstep_participants = {"dmpl_noise", "dmpl_ik", "dmpl_controller"};
   std::string record = "full";     // what the run's log keeps: full, analysis or none (tools)
   double view_rate_hz = 30.0;      // DMPL_VIEW_TRUTH / _SENSED for viewers (sim time); 0: none
+  bool respawn = false;            // the launcher restarts a process that dies (tools)
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -32,10 +35,12 @@ struct RunParams {
     a->Visit(DMPL_NVP(channel_buses));
     a->Visit(DMPL_NVP(tick_timeout_s));
     a->Visit(DMPL_NVP(max_tick_faults));
+    a->Visit(DMPL_NVP(resend_after_s));
     a->Visit(DMPL_NVP(heartbeat_period_s));
     a->Visit(DMPL_NVP(lockstep_participants));
     a->Visit(DMPL_NVP(record));
     a->Visit(DMPL_NVP(view_rate_hz));
+    a->Visit(DMPL_NVP(respawn));
   }
 };
 

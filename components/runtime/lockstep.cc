@@ -6,8 +6,9 @@
 
 namespace dmpl {
 
-LockstepGate::LockstepGate(std::vector<Input> inputs)
+LockstepGate::LockstepGate(std::vector<Input> inputs, bool consecutive)
     : inputs_(std::move(inputs)),
+      consecutive_(consecutive),
       served_(inputs_.size(), std::numeric_limits<int64_t>::min()) {
   DMPL_DEMAND(!inputs_.empty());
   DMPL_DEMAND(inputs_[0].seq_offset == 0 && inputs_[0].period == 1);
@@ -41,7 +42,10 @@ std::vector<int64_t> LockstepGate::Arrive(size_t index, int64_t seq) {
     served_[index] = served;
   }
   std::vector<int64_t> fired;
-  while (!pending_.empty() && Complete(*pending_.begin())) {
+  auto next_in_turn = [this] {
+    return !consecutive_ || last_tick_ < 0 || *pending_.begin() == last_tick_ + 1;
+  };
+  while (!pending_.empty() && next_in_turn() && Complete(*pending_.begin())) {
     last_tick_ = *pending_.begin();
     pending_.erase(pending_.begin());
     fired.push_back(last_tick_);
@@ -50,8 +54,10 @@ std::vector<int64_t> LockstepGate::Arrive(size_t index, int64_t seq) {
 }
 
 std::string LockstepGate::Missing() const {
-  const int64_t next = pending_.empty() ? last_tick_ + 1 : *pending_.begin();
-  std::string missing = pending_.empty() ? inputs_[0].name : "";
+  const int64_t next = pending_.empty() || (consecutive_ && last_tick_ >= 0)
+                           ? last_tick_ + 1
+                           : *pending_.begin();
+  std::string missing = pending_.count(next) == 0 ? inputs_[0].name : "";
   for (size_t i = 1; i < inputs_.size(); ++i) {
     if (next >= inputs_[i].first_tick && served_[i] < next) {
       missing += (missing.empty() ? "" : ", ") + inputs_[i].name;

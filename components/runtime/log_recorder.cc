@@ -1,5 +1,6 @@
 #include "components/runtime/log_recorder.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -40,13 +41,30 @@ void LogRecorder::Finish() {
     columns_->Finish("\"recorded\": {\"policy\": \"" +
                      std::string(RecordPolicyName(filter_.policy())) + "\", \"received\": " +
                      std::to_string(received_) + ", \"written\": " + std::to_string(written_) +
-                     ", \"failed\": " + std::to_string(failed_) + "}");
+                     ", \"failed\": " + std::to_string(failed_) +
+                     ", \"copies\": " + std::to_string(copies_) + "}");
   }
 }
 
+bool LogRecorder::IsCopy(const std::string& channel, const uint8_t* data, size_t size) {
+  // Resent messages are among the last few of a node (resend.h keeps at most 8).
+  constexpr size_t kRemembered = 16;
+  uint64_t hash = 14695981039346656037ull;  // FNV-1a
+  for (size_t i = 0; i < size; ++i) hash = (hash ^ data[i]) * 1099511628211ull;
+  std::deque<uint64_t>& recent = recent_[channel];
+  if (std::find(recent.begin(), recent.end(), hash) != recent.end()) return true;
+  recent.push_back(hash);
+  if (recent.size() > kRemembered) recent.pop_front();
+  return false;
+}
+
 void LogRecorder::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  ++received_;
   const auto* data = static_cast<const uint8_t*>(rbuf->data);
+  if (IsCopy(channel, data, rbuf->data_size)) {
+    ++copies_;
+    return;
+  }
+  ++received_;
   if (columns_) columns_->Add(channel, data, rbuf->data_size);
   if (log_ == nullptr || !filter_.Keep(channel, data, rbuf->data_size)) return;
   lcm_eventlog_event_t event{};

@@ -6,9 +6,11 @@
 #include <lcm/eventlog.h>
 
 #include <cstdint>
+#include <deque>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "components/logging/log_columns.h"
@@ -39,9 +41,14 @@ class LogRecorder {
   int64_t received() const { return received_; }
   int64_t written() const { return written_; }
   int64_t failed() const { return failed_; }
+  int64_t copies() const { return copies_; }
 
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  // True when the message's bytes are those of one of the last on its channel: a copy sent
+  // again after a loss (resend.h), which the log keeps once.
+  bool IsCopy(const std::string& channel, const uint8_t* data, size_t size);
+  std::unordered_map<std::string, std::deque<uint64_t>> recent_;  // per channel, hashes
   lcm_eventlog_t* log_ = nullptr;
   RecordFilter filter_;
   std::unique_ptr<LogColumns> columns_;
@@ -49,6 +56,7 @@ class LogRecorder {
   int64_t received_ = 0;
   int64_t written_ = 0;
   int64_t failed_ = 0;
+  int64_t copies_ = 0;
 };
 
 }  // namespace dmpl

@@ -51,6 +51,13 @@ void Node::AddTimer(double period_s, std::function<void()> fn) {
   timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn)});
 }
 
+void Node::KeepForResend(const RunParams& run, size_t depth) {
+  resender_ = std::make_unique<Resender>(depth, run.lockstep ? run.resend_after_s : 0.0);
+  if (resender_->enabled()) {
+    AddTimer(run.resend_after_s / 2, [this] { resender_->Poll(MonotonicSeconds()); });
+  }
+}
+
 void Node::RequestExit(int exit_code) {
   exit_requested_ = true;
   exit_code_ = std::max(exit_code_, exit_code);

@@ -12,8 +12,10 @@
 #include <lcm/lcm-cpp.hpp>
 #include <spdlog/spdlog.h>
 
+#include "components/runtime/clock.h"
 #include "components/runtime/config.h"
 #include "components/runtime/lcm_bus.h"
+#include "components/runtime/resend.h"
 
 namespace dmpl {
 
@@ -38,6 +40,20 @@ class Node {
   // Runs `fn` every `period_s` seconds of wall time from the executor's loop.
   void AddTimer(double period_s, std::function<void()> fn);
 
+  // Lockstep over a lossy network: the node's last `depth` messages published with PublishLoop
+  // are sent again while the loop stalls (resend.h; run.resend_after_s; off in real time).
+  void KeepForResend(const RunParams& run, size_t depth);
+  // Publishes a message of the loop (kept for resending when KeepForResend was called).
+  template <typename Msg>
+  void PublishLoop(const std::string& channel, const Msg& msg) {
+    if (resender_) {
+      resender_->Publish(lcm(channel), channel, msg, MonotonicSeconds());
+    } else {
+      lcm(channel).publish(channel, &msg);
+    }
+  }
+  int64_t resent() const { return resender_ ? resender_->resent() : 0; }
+
   // Ends the executor's loop; the process exits with the largest code any node asked for.
   void RequestExit(int exit_code);
   bool exit_requested() const { return exit_requested_; }
@@ -60,6 +76,7 @@ class Node {
   LcmBus* bus_;
   std::shared_ptr<spdlog::logger> logger_;
   std::vector<Timer> timers_;
+  std::unique_ptr<Resender> resender_;
   bool exit_requested_ = false;
   int exit_code_ = 0;
   int64_t tick_ = -1;

@@ -2,6 +2,7 @@
 // for viewers; README, "The processes"). Reads sections
 // `run`, `noise`.
 #include "components/runtime/channels.h"
+#include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
 #include "dmpl/heartbeat_t.hpp"
@@ -13,19 +14,37 @@ namespace {
 class NoiseNode : public Node {
  public:
   NoiseNode(const NodeContext& ctx, const NoiseParams& params)
-      : Node(ctx.name, ctx.bus), injector_(params, ctx.run.seed), view_gate_(ctx.run.view_rate_hz) {
+      : Node(ctx.name, ctx.bus),
+        lockstep_(ctx.run.lockstep),
+        injector_(params, ctx.run.seed),
+        view_gate_(ctx.run.view_rate_hz) {
+    KeepForResend(ctx.run, 4);
     listen(channels::kSensorsTrue).subscribe(channels::kSensorsTrue, &NoiseNode::OnSensors, this);
     AddTimer(1.0, [this] { ReportRejections(); });
   }
 
  private:
   void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* truth) {
-    if (auto sensed = injector_.Sense(*truth)) {
-      lcm(channels::kSensors).publish(channels::kSensors, &*sensed);
+    if (!lockstep_) {
+      Sense(*truth);
+      return;
+    }
+    // The injector has state (delays, drifts): each tick once, in order.
+    using Verdict = InOrder<hand_sensors_t>::Verdict;
+    if (in_order_.Arrive(truth->seq, *truth, &ready_) == Verdict::kTooFarAhead) {
+      log().warn("truth of tick {} far ahead of tick {}: not adopted", truth->seq,
+                 in_order_.next());
+    }
+    for (const hand_sensors_t& t : ready_) Sense(t);
+  }
+
+  void Sense(const hand_sensors_t& truth) {
+    if (auto sensed = injector_.Sense(truth)) {
+      PublishLoop(channels::kSensors, *sensed);
       if (view_gate_.Due(sensed->utime)) {
         lcm(channels::kViewSensed).publish(channels::kViewSensed, &*sensed);
       }
-      set_tick(truth->seq);
+      set_tick(truth.seq);
     }
   }
   void ReportRejections() {
@@ -37,6 +56,9 @@ class NoiseNode : public Node {
                                          injector_.last_rejection());
   }
 
+  bool lockstep_;
+  InOrder<hand_sensors_t> in_order_;
+  std::vector<hand_sensors_t> ready_;
   NoiseInjector injector_;
   RateGate view_gate_;  // DMPL_VIEW_SENSED
   int64_t reported_ = 0;

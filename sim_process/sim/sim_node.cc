@@ -43,6 +43,7 @@ class SimNode : public Node {
     listen(channels::kSimControl).subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
     listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SimNode::OnHeartbeat, this);
     for (const auto& p : run_.lockstep_participants) waiting_for_.push_back(p);
+    KeepForResend(run_, 4);  // the truths of the ticks that may still be unanswered
     PrepareMessages();
     if (run_.lockstep) {
       AddTimer(0.05, [this] { CheckLockstep(); });
@@ -119,7 +120,7 @@ class SimNode : public Node {
         c.normal[i] = tips[f].normal[i];
       }
     }
-    lcm(channels::kSensorsTrue).publish(channels::kSensorsTrue, &sensors_msg_);
+    PublishLoop(channels::kSensorsTrue, sensors_msg_);
     if (view_gate_.Due(utime)) {
       lcm(channels::kViewTruth).publish(channels::kViewTruth, &sensors_msg_);
     }
@@ -184,6 +185,10 @@ class SimNode : public Node {
         if (it == commands_.end()) return;
         ApplyCommand(it->second);
         commands_.erase(it);  // the earliest: older ones are refused as stale
+      } else if (tick_ == 0 && run_.resend_after_s > 0 && commands_.empty()) {
+        // Tick 1 waits until tick 0 is answered: every node then starts its stream at tick 0,
+        // and a lost first message is sent again rather than overtaken.
+        return;
       }
       Advance();
     }

@@ -178,9 +178,10 @@ class RecordPoliciesTest(unittest.TestCase):
         # A channel without C++ columns, decoded by its Python type.
         cmd = pq.read_table(out / "export/DMPL_JOINT_CMD.parquet")
         self.assertIn("seq", cmd.column_names)
-        csv_tables, _ = export(log, out / "csv", "csv", "DMPL_SIM_CONTROL")
-        self.assertEqual(list(csv_tables), ["DMPL_SIM_CONTROL"])
-        self.assertIn("reason", (out / "csv/DMPL_SIM_CONTROL.csv").read_text().splitlines()[0])
+        csv_tables, _ = export(log, out / "csv", "csv", "DMPL_TASK")
+        self.assertEqual(list(csv_tables), ["DMPL_TASK"])
+        self.assertIn("sim_command_reason",
+                      (out / "csv/DMPL_TASK.csv").read_text().splitlines()[0])
 
 
 class BadLogsTest(unittest.TestCase):

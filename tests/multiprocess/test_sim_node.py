@@ -16,7 +16,8 @@ import mp
 from dmpl import hand_sensors_t, heartbeat_t, joint_cmd_t, sim_control_t, sim_status_t
 
 CONFIG = """
-run: {lockstep: true, lockstep_participants: [test_driver], tick_timeout_s: 0.3, max_tick_faults: 2}
+run: {lockstep: true, lockstep_participants: [test_driver], tick_timeout_s: 0.3, max_tick_faults: 2,
+      resend_after_s: RESEND}
 sim: {duration_s: 5.0, command_delay_ticks: DELAY}
 object: {position: [0.3, 0.5, 0.5], held: false}
 """
@@ -30,7 +31,7 @@ def write(text, suffix=".yaml"):
 
 
 class SimNodeTest(unittest.TestCase):
-    def start(self, delay):
+    def start(self, delay, resend_after_s=0.0):
         """Starts dmpl_sim with this test as its only participant; returns (process, bus,
         states, answer), answer(k, q) sending the command for tick k and waiting for the tick
         it makes the simulator publish."""
@@ -40,7 +41,8 @@ class SimNodeTest(unittest.TestCase):
             hand_sensors_t.decode(data).joints))
         bus.listen("DMPL_SIM_STATUS", sim_status_t)
         sim = subprocess.Popen([os.path.join(os.environ["DMPL_BUILD_DIR"], "bin", "dmpl_sim"),
-                                "--config", write(CONFIG.replace("DELAY", str(delay)))],
+                                "--config", write(CONFIG.replace("DELAY", str(delay))
+                                                 .replace("RESEND", str(resend_after_s)))],
                                cwd=mp.ROOT)
         self.addCleanup(lambda: sim.poll() is None and sim.kill())
         hb = heartbeat_t()
@@ -84,6 +86,34 @@ class SimNodeTest(unittest.TestCase):
         faults = [s for s in bus.received["DMPL_SIM_STATUS"] if s.faults > 0]
         self.assertTrue(faults)
         self.assertIn("no JOINT_CMD for seq 20", faults[-1].last_fault)
+
+    def test_over_a_lossy_network_it_sends_an_unanswered_tick_again(self):
+        # run.resend_after_s: while no command comes, the truth of the ticks waiting for one is
+        # sent again, the same bytes; tick 1 waits for the answer to tick 0 (so that every node
+        # starts at tick 0, whatever is lost), then the delay holds as without loss.
+        delay = 2
+        bus = mp.Bus()
+        raw = []
+        bus.subscribe("DMPL_SENSORS_TRUE", lambda ch, data: raw.append(data))
+        sim = subprocess.Popen([os.path.join(os.environ["DMPL_BUILD_DIR"], "bin", "dmpl_sim"),
+                                "--config", write(CONFIG.replace("DELAY", str(delay))
+                                                  .replace("RESEND", "0.01"))], cwd=mp.ROOT)
+        self.addCleanup(lambda: sim.poll() is None and sim.kill())
+        hb = heartbeat_t()
+        hb.process, hb.pid, hb.state = "test_driver", os.getpid(), heartbeat_t.RUNNING
+        bus.wait_for(lambda: (bus.publish("DMPL_HEARTBEAT", hb) or True) and len(raw) >= 3, 10,
+                     "tick 0 and two copies of it")
+        self.assertEqual({hand_sensors_t.decode(d).seq for d in raw}, {0})
+        self.assertEqual(len(set(raw)), 1, "a copy differs from the original")
+        names = list(hand_sensors_t.decode(raw[0]).joints.name)
+        q0 = list(hand_sensors_t.decode(raw[0]).joints.position)
+        cmd = joint_cmd_t()
+        cmd.seq, cmd.num_joints, cmd.name, cmd.position = 0, len(names), names, q0
+        bus.publish("DMPL_JOINT_CMD", cmd)
+        bus.wait_for(lambda: {hand_sensors_t.decode(d).seq for d in raw} >= {1, 2, 3}, 5,
+                     "ticks 1 to 3")
+        bus.spin(0.05)
+        self.assertEqual(max(hand_sensors_t.decode(d).seq for d in raw), delay + 1)
 
     def test_a_paused_simulator_keeps_the_command_until_resumed(self):
         sim, bus, states, answer = self.start(1)

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "components/runtime/lockstep.h"
+#include "components/runtime/resend.h"
+#include "dmpl/heartbeat_t.hpp"
 
 namespace dmpl {
 namespace {
@@ -63,6 +65,69 @@ TEST(LockstepGateTest, OldMessagesAreStale) {
   EXPECT_EQ(gate.Arrive(0, 3), Ticks{});
   EXPECT_EQ(gate.stale_count(), 1);
   EXPECT_EQ(gate.Arrive(0, 6), Ticks{6});
+}
+
+TEST(LockstepGateTest, ConsecutiveTicksWaitForALostOneToBeSentAgain) {
+  LockstepGate gate({{"state", 0, 0}}, /*consecutive=*/true);
+  EXPECT_EQ(gate.Arrive(0, 0), Ticks{0});
+  EXPECT_EQ(gate.Arrive(0, 2), Ticks{});  // tick 1 was lost: tick 2 waits
+  EXPECT_EQ(gate.Missing(), "state");
+  EXPECT_EQ(gate.Arrive(0, 3), Ticks{});
+  EXPECT_EQ(gate.Arrive(0, 1), (Ticks{1, 2, 3}));  // sent again
+  EXPECT_EQ(gate.Arrive(0, 2), Ticks{});           // a copy
+  EXPECT_EQ(gate.stale_count(), 1);
+}
+
+TEST(InOrderTest, DeliversEachSeqOnceInOrderFromTheFirstSeen) {
+  InOrder<int> stream(/*max_ahead=*/100);
+  std::vector<int> ready;
+  EXPECT_EQ(stream.Arrive(7, 70, &ready), InOrder<int>::Verdict::kAccepted);
+  EXPECT_EQ(ready, std::vector<int>{70});
+  stream.Arrive(9, 90, &ready);
+  EXPECT_TRUE(ready.empty());  // 8 was lost
+  EXPECT_EQ(stream.waiting(), 1u);
+  stream.Arrive(9, 91, &ready);  // a copy of a waiting one changes nothing
+  stream.Arrive(8, 80, &ready);
+  EXPECT_EQ(ready, (std::vector<int>{80, 90}));
+  EXPECT_EQ(stream.Arrive(8, 80, &ready), InOrder<int>::Verdict::kDuplicate);
+  EXPECT_TRUE(ready.empty());
+  // A forged seq far ahead is refused, and the stream goes on.
+  EXPECT_EQ(stream.Arrive(1000000000, 0, &ready), InOrder<int>::Verdict::kTooFarAhead);
+  stream.Arrive(10, 100, &ready);
+  EXPECT_EQ(ready, std::vector<int>{100});
+}
+
+TEST(ResenderTest, SendsItsLastMessagesAgainWhileStalledBackingOff) {
+  lcm::LCM lcm("memq://");
+  ASSERT_TRUE(lcm.good());
+  std::vector<int64_t> seen;
+  struct Counter {
+    std::vector<int64_t>* seen;
+    void On(const lcm::ReceiveBuffer*, const std::string&, const heartbeat_t* m) {
+      seen->push_back(m->seq);
+    }
+  } counter{&seen};
+  lcm.subscribe("X", &Counter::On, &counter);
+  Resender resender(/*depth=*/2, /*stall_s=*/0.01);
+  heartbeat_t m{};
+  for (int64_t k = 0; k < 3; ++k) {
+    m.seq = k;
+    resender.Publish(lcm, "X", m, /*now=*/0.0);
+  }
+  EXPECT_EQ(resender.Poll(0.005), 0);  // not stalled yet
+  EXPECT_EQ(resender.Poll(0.010), 2);  // the last two, oldest first
+  EXPECT_EQ(resender.Poll(0.025), 0);  // then after 2x as long
+  EXPECT_EQ(resender.Poll(0.030), 2);
+  m.seq = 3;
+  resender.Publish(lcm, "X", m, 0.031);  // progress: the wait starts again
+  EXPECT_EQ(resender.Poll(0.035), 0);
+  EXPECT_EQ(resender.resent(), 4);
+  while (lcm.handleTimeout(0) > 0) {
+  }
+  EXPECT_EQ(seen, (std::vector<int64_t>{0, 1, 2, 1, 2, 1, 2, 3}));
+  Resender off(2, 0.0);  // real time: nothing is kept
+  off.Publish(lcm, "X", m, 0.0);
+  EXPECT_EQ(off.Poll(10.0), 0);
 }
 
 }  // namespace

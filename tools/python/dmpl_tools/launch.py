@@ -275,6 +275,8 @@ class Launcher:
         self.failed = []
         self.logger = None
         self.ended_by = None
+        self.loop_tick = -1   # the newest tick a process of the set reported (heartbeats)
+        self.restarts = []    # {"process", "tick"}: the loop's tick when it died
         import lcm  # the PyPI package, in the project's venv
         from dmpl import heartbeat_t
         self._lcm_mod = lcm
@@ -325,6 +327,7 @@ class Launcher:
             if p.popen and group == p.popen.pid and p.popen.poll() is None:
                 p.last_heartbeat = hb.utime
                 p.heartbeat_seen = True
+                self.loop_tick = max(self.loop_tick, hb.seq)
 
     def publish_status(self):
         from dmpl import process_info_t, process_status_t
@@ -345,7 +348,10 @@ class Launcher:
             info.last_heartbeat_utime = p.last_heartbeat
             msg.processes.append(info)
         msg.num_processes = len(msg.processes)
-        self.lc.publish(channels.PROCESS_STATUS, msg.encode())
+        try:
+            self.lc.publish(channels.PROCESS_STATUS, msg.encode())
+        except OSError:
+            pass  # a status lost to the network; the next one follows in status_period_s
 
     # --- process control -----------------------------------------------------------------------
     def _env(self, spec):
@@ -474,6 +480,8 @@ class Launcher:
         if self.stop_requested is None and spec.auto_respawn and proc.restarts < spec.max_restarts:
             delay = min(spec.respawn_delay_s * (2 ** proc.restarts), 8.0)
             proc.restarts += 1
+            self.restarts.append({"process": spec.name, "tick": self.loop_tick,
+                                  "exit": how})
             proc.state = "respawning"
             proc.respawn_at = now + delay
             self.say(f"{spec.name} died ({how}); respawn {proc.restarts}/{spec.max_restarts} "

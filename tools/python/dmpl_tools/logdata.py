@@ -83,6 +83,11 @@ class Columns:
             if name in out:
                 names = np.array(table, dtype=object)
                 out[name] = names[out[name]] if len(names) else out[name].astype(object)
+        seq = out.get("seq")
+        if not sub and seq is not None and len(seq) > 1 and (np.diff(seq) < 0).any():
+            # A message sent again after a loss is logged when it arrived: rows in tick order.
+            order = np.argsort(seq, kind="stable")
+            out = {k: v[order] if len(v) == len(seq) else v for k, v in out.items()}
         return out
 
     def problems(self):

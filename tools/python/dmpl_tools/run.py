@@ -33,7 +33,7 @@ def loop_layout():
 
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
                    echo=True, progress=None, one_process=False, record=None, cpus=None,
-                   pins=None):
+                   pins=None, respawn=None):
     """Runs one experiment and returns its summary (also written to OUT/summary.json).
 
     record: what the log keeps, full | analysis | none (default: the config's run.record);
@@ -41,8 +41,14 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results).
     cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
     the recorder then runs on the others.
-    pins: {process name: CPUs} for single processes, over `cpus` and the config's own."""
+    pins: {process name: CPUs} for single processes, over `cpus` and the config's own.
+    respawn: restart a process of the set that dies (all but the one whose end ends the run),
+    as the config's run.respawn says when None."""
     config = experiment.resolve(config_path, params, sets, seed)
+    if respawn is None:
+        respawn = bool(config.get("run", {}).get("respawn", False))
+    if respawn and one_process:
+        raise experiment.ExperimentError("--respawn: one-process mode runs a single process")
     policy = record_policy(config, record)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
@@ -79,7 +85,11 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
                       "exit_ends_set": True}]
         set_data = {"name": name, "processes": processes, "record": False}
     else:
-        set_data = {"name": name, "processes": _pinned(config["processes"], pins or {})}
+        processes = _pinned(config["processes"], pins or {})
+        if respawn:
+            processes = [p if p.get("exit_ends_set") else dict(p, auto_respawn=True)
+                         for p in processes]
+        set_data = {"name": name, "processes": processes}
     if cpus:
         set_data["cpus"] = list(cpus)
     pset = parse_set(set_data, f"{config_path}: processes", variables)
@@ -115,6 +125,10 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     summary["realtime_factor"] = sim_time / wall if wall > 0 else 0.0
     summary["exit_code"] = code
     summary["mode"] = "one-process" if one_process else "multi-process"
+    if respawn:
+        tick_s = _tick_seconds(config)
+        summary["restarts"] = [dict(r, sim_time_s=r["tick"] * tick_s if r["tick"] >= 0 else None)
+                               for r in launcher.restarts]
     timed_out = launcher.ended_by is None and str(launcher.stop_requested).startswith("duration")
     interrupted = launcher.stop_requested in ("SIGINT", "SIGTERM")
     if timed_out:
@@ -147,6 +161,12 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         print(f"dmpl run: error: cannot write {out / 'summary.json'} ({e.strerror or e}); the "
               f"summary:\n{json.dumps(summary, indent=2, sort_keys=True)}", file=sys.stderr)
     return summary, out
+
+
+def _tick_seconds(config):
+    """Simulated seconds per lockstep tick (the simulator's defaults when the config is silent)."""
+    sim = config.get("sim", {})
+    return float(sim.get("physics", {}).get("time_step", 0.001)) * int(sim.get("steps_per_tick", 1))
 
 
 def record_policy(config, record):
@@ -276,6 +296,9 @@ def main(argv=None):
                     "recorder runs on the others")
     ap.add_argument("--pin", type=pin_arg, action="append", default=[], metavar="NAME=LIST",
                     help="pin one process (e.g. dmpl_sim=0), over --cpus")
+    ap.add_argument("--respawn", action="store_true", default=None,
+                    help="restart a process that dies (all but the simulator; run.respawn); "
+                    "the summary lists the restarts")
     ap.add_argument("--loop-layout", action="store_true",
                     help="the fastest layout of a lockstep loop on two CPUs: --cpus -1 "
                     "--pin dmpl_sim=0 (what demo and bench use)")
@@ -291,7 +314,7 @@ def main(argv=None):
         summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
                                       args.lcm_url, echo=not args.quiet,
                                       one_process=args.one_process, cpus=cpus, pins=pins,
-                                      record=args.record)
+                                      record=args.record, respawn=args.respawn)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2

@@ -1,0 +1,68 @@
+"""Issue 18: with --respawn, a process of the loop that dies mid-gait is restarted and rejoins it
+(lockstep: the others send their last messages again until it answers; real time: it takes up
+the latest), the run still succeeds, and the summary lists the restart."""
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+import mp
+from dmpl import heartbeat_t
+from dmpl_tools import channels
+
+GAIT = mp.ROOT + "/configs/experiments/fig10_gait_sphere.yaml"
+
+
+class RespawnTest(unittest.TestCase):
+    def kill_mid_gait(self, victim, *sets):
+        """Runs the gait with --respawn, kills `victim` once the loop is 1.5 s into the run,
+        and returns the summary."""
+        out = Path(tempfile.mkdtemp(prefix="dmpl_respawn_"))
+        self.addCleanup(subprocess.run, ["rm", "-rf", str(out)])
+        run = subprocess.Popen(
+            [sys.executable, "-m", "dmpl_tools.run", GAIT, "--out", str(out), "--respawn",
+             "--record", "none", "--set", "task.angle=3.0", *sum((["--set", s] for s in sets), [])],
+            cwd=mp.ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        bus, state = mp.Bus(), {}
+
+        def on_heartbeat(channel, data):
+            hb = heartbeat_t.decode(data)
+            if hb.process == victim and hb.state == heartbeat_t.RUNNING:
+                state["pid"] = hb.pid
+            if hb.process == "dmpl_sim":
+                state["tick"] = hb.seq
+        bus.subscribe(channels.HEARTBEAT, on_heartbeat)
+        bus.wait_for(lambda: "pid" in state and state.get("tick", -1) > 1500, 60,
+                     f"{victim} running and the loop 1.5 s in")
+        os.kill(state["pid"], signal.SIGKILL)
+        output, _ = run.communicate(timeout=180)
+        summary = json.loads((out / "summary.json").read_text())
+        self.assertEqual(summary["status"], "success", (summary.get("problems"), output[-3000:]))
+        self.assertEqual([r["process"] for r in summary["restarts"]], [victim])
+        # The launcher knows the tick from heartbeats (every 0.25 s of wall time).
+        self.assertGreater(summary["restarts"][0]["sim_time_s"], 0.5)
+        self.assertGreater(summary["rotation_total_rad"], 2.9)
+        return summary
+
+    def test_lockstep_ik_rejoins(self):
+        self.kill_mid_gait("dmpl_ik")
+
+    def test_lockstep_noise_rejoins(self):
+        self.kill_mid_gait("dmpl_noise")
+
+    def test_lockstep_controller_rejoins(self):
+        self.kill_mid_gait("dmpl_controller")
+
+    def test_real_time_ik_rejoins(self):
+        self.kill_mid_gait("dmpl_ik", "run.lockstep=false")
+
+    def test_real_time_noise_rejoins(self):
+        self.kill_mid_gait("dmpl_noise", "run.lockstep=false")
+
+
+if __name__ == "__main__":
+    sys.exit(unittest.main())
