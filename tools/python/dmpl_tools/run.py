@@ -42,8 +42,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
     the recorder then runs on the others.
     pins: {process name: CPUs} for single processes, over `cpus` and the config's own.
-    respawn: restart a process of the set that dies (all but the one whose end ends the run),
-    as the config's run.respawn says when None."""
+    respawn: restart a process of the loop that dies (run.lockstep_participants: the noise
+    injector, the IK and the controller), as the config's run.respawn says when None."""
     config = experiment.resolve(config_path, params, sets, seed)
     if respawn is None:
         respawn = bool(config.get("run", {}).get("respawn", False))
@@ -87,7 +87,11 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     else:
         processes = _pinned(config["processes"], pins or {})
         if respawn:
-            processes = [p if p.get("exit_ends_set") else dict(p, auto_respawn=True)
+            # The loop's participants rejoin it where they left (the others resend to them);
+            # the simulator and the supervisor hold the run's state: their death ends it.
+            rejoin = set(config.get("run", {}).get(
+                "lockstep_participants", ["dmpl_noise", "dmpl_ik", "dmpl_controller"]))
+            processes = [dict(p, auto_respawn=True) if p.get("name") in rejoin else p
                          for p in processes]
         set_data = {"name": name, "processes": processes}
     if cpus:
@@ -297,8 +301,8 @@ def main(argv=None):
     ap.add_argument("--pin", type=pin_arg, action="append", default=[], metavar="NAME=LIST",
                     help="pin one process (e.g. dmpl_sim=0), over --cpus")
     ap.add_argument("--respawn", action="store_true", default=None,
-                    help="restart a process that dies (all but the simulator; run.respawn); "
-                    "the summary lists the restarts")
+                    help="restart a process of the loop that dies (noise, IK, controller; "
+                    "run.respawn); the summary lists the restarts")
     ap.add_argument("--loop-layout", action="store_true",
                     help="the fastest layout of a lockstep loop on two CPUs: --cpus -1 "
                     "--pin dmpl_sim=0 (what demo and bench use)")
