@@ -22,7 +22,8 @@ function(dmpl_lcmtypes)
     OUTPUT ${hpp_files}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${cpp_dir}
     COMMAND ${LCM_GEN} -x --cpp-std=c++11 --cpp-hpath ${cpp_dir} ${ARG_FILES}
-    DEPENDS ${ARG_FILES}
+    COMMAND ${CMAKE_COMMAND} -DDIR=${cpp_dir}/dmpl -P ${PROJECT_SOURCE_DIR}/cmake/HardenLcmDecode.cmake
+    DEPENDS ${ARG_FILES} ${PROJECT_SOURCE_DIR}/cmake/HardenLcmDecode.cmake
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
     COMMENT "lcm-gen C++")
   add_custom_command(

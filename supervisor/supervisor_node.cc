@@ -33,8 +33,8 @@ class SupervisorNode : public Node {
         core_(fingers, std::move(tasks), task_params, params,
               static_cast<uint64_t>(ctx.run.seed)) {
     KeepForResend(ctx.run, 4);
-    listen(channels::kControllerReport).subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
-    listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
+    Subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
+    Subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
     AddTimer(0.2, [this] { CheckHeartbeats(); });
   }
 

@@ -64,8 +64,8 @@ class ControllerNode : public Node {
       targets_.fingers[f].finger = kin_.finger(f).name();
       status_.fingers[f].finger = kin_.finger(f).name();
     }
-    listen(channels::kSensors).subscribe(channels::kSensors, &ControllerNode::OnSensors, this);
-    listen(channels::kTask).subscribe(channels::kTask, &ControllerNode::OnTask, this);
+    Subscribe(channels::kSensors, &ControllerNode::OnSensors, this);
+    Subscribe(channels::kTask, &ControllerNode::OnTask, this);
   }
 
  private:
@@ -212,7 +212,10 @@ class ControllerNode : public Node {
       ev.text = e.text;
       status_.events.push_back(ev);
       if (e.type == EventType::kInputRejected) {
-        log().warn("tick {}: {}", tick, e.text);
+        ++rejected_;
+        if (rejected_ <= 5 || rejected_ % 1000 == 0) {  // a flood of bad input floods no log
+          log().warn("tick {}: {} ({} rejected so far)", tick, e.text, rejected_);
+        }
         set_status(heartbeat_t::RUNNING, e.text);
       } else {
         log().debug("tick {}: {}", tick, e.text);
@@ -248,6 +251,7 @@ class ControllerNode : public Node {
   };
   std::map<int64_t, ArrivedTask> tasks_;  // by seq
   int64_t forwarded_task_seq_ = std::numeric_limits<int64_t>::min();
+  int64_t rejected_ = 0;  // sensed inputs rejected (NaN, out of range)
   int32_t last_task_id_ = -1;
   finger_targets_t targets_{};
   controller_status_t status_{};

@@ -92,14 +92,29 @@ bool ManipulationController::Validate(const SensedInput& in, std::string* why) c
       return false;
     }
   }
+  if (std::string out = kin_.OutOfLimits(in.q, InputBounds::kJointMarginRad); !out.empty()) {
+    *why = "joint state beyond the hand's limits: " + out;
+    return false;
+  }
   for (const auto& t : in.tips) {
     if (!t.position.allFinite() || !std::isfinite(t.force)) {
       *why = "tactile reading with NaN";
       return false;
     }
+    if (std::abs(t.force) > InputBounds::kMaxForceN ||
+        t.position.norm() > InputBounds::kWorkspaceRadiusM) {
+      *why = "tactile reading beyond the sensor's range (" + std::to_string(t.force) + " N at " +
+             std::to_string(t.position.norm()) + " m from the palm)";
+      return false;
+    }
   }
   if (in.object_valid && !in.object.matrix().allFinite()) {
     *why = "object pose with NaN";
+    return false;
+  }
+  if (in.object_valid && in.object.translation().norm() > InputBounds::kWorkspaceRadiusM) {
+    *why = "object pose " + std::to_string(in.object.translation().norm()) +
+           " m from the palm, outside the hand's workspace";
     return false;
   }
   return true;

@@ -32,7 +32,7 @@ class IkNode : public Node {
     status_.fingers.resize(kin_.num_fingers());
     for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
     KeepForResend(ctx.run, 4);
-    listen(channels::kFingerTargets).subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
+    Subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
   }
 
  private:
@@ -45,6 +45,20 @@ class IkNode : public Node {
     for (double q : m->joint_position) {
       if (!std::isfinite(q)) {
         Reject("targets planned from joints with NaN");
+        return;
+      }
+    }
+    if (std::string out = kin_.OutOfLimits(m->joint_position, InputBounds::kJointMarginRad);
+        !out.empty()) {
+      Reject("targets planned from joints beyond the hand's limits: " + out);
+      return;
+    }
+    for (const auto& t : m->fingers) {
+      const Eigen::Vector3d p(t.position[0], t.position[1], t.position[2]);
+      if (t.mode == finger_target_t::POSITION && p.allFinite() &&
+          p.norm() > InputBounds::kWorkspaceRadiusM) {
+        Reject("target for finger " + t.finger + " " + std::to_string(p.norm()) +
+               " m from the palm, outside the hand's workspace");
         return;
       }
     }

@@ -67,6 +67,21 @@ Eigen::Vector3d HandKinematics::TipPosition(int f, const std::vector<double>& q)
   return fingers_[f].TipPosition(FingerJoints(f, q));
 }
 
+std::string HandKinematics::OutOfLimits(const std::vector<double>& q, double margin_rad) const {
+  for (int f = 0; f < num_fingers(); ++f) {
+    const FingerKinematics& finger = fingers_[f];
+    for (int j = 0; j < finger.num_joints(); ++j) {
+      const double v = q[joint_indices_[f][j]];
+      if (v < finger.lower()[j] - margin_rad || v > finger.upper()[j] + margin_rad) {
+        return finger.name() + " joint " + std::to_string(j) + " at " + std::to_string(v) +
+               " rad, outside [" + std::to_string(finger.lower()[j]) + ", " +
+               std::to_string(finger.upper()[j]) + "]";
+      }
+    }
+  }
+  return "";
+}
+
 int HandKinematics::FindFinger(const std::string& name) const {
   for (int f = 0; f < num_fingers(); ++f) {
     if (fingers_[f].name() == name) return f;

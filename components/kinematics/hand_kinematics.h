@@ -38,6 +38,14 @@ class FingerKinematics {
   mutable KDL::Jacobian jac_kdl_;
 };
 
+// What a sensed or commanded value of this hand can physically be. A value beyond is a corrupt or
+// forged message, rejected like NaN.
+struct InputBounds {
+  static constexpr double kJointMarginRad = 0.2;    // past a limit: noise, overshoot, calibration
+  static constexpr double kMaxForceN = 100.0;       // a fingertip sensor's range (grips are ~1 N)
+  static constexpr double kWorkspaceRadiusM = 0.5;  // palm frame; the hand spans about 0.2 m
+};
+
 class HandKinematics {
  public:
   explicit HandKinematics(const HandModel& model);
@@ -50,6 +58,9 @@ class HandKinematics {
   Eigen::VectorXd FingerJoints(int f, const std::vector<double>& q) const;
   Eigen::Vector3d TipPosition(int f, const std::vector<double>& q) const;
   int FindFinger(const std::string& name) const;
+  // Empty when every joint of `q` is within its limits widened by `margin_rad`; else which is
+  // not (the caller has checked the size).
+  std::string OutOfLimits(const std::vector<double>& q, double margin_rad) const;
 
  private:
   std::vector<FingerKinematics> fingers_;

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "components/logging/decode.h"
 #include "components/logging/json_text.h"
 #include "components/runtime/channels.h"
 #include "dmpl/controller_status_t.hpp"
@@ -165,7 +166,7 @@ std::vector<std::string> FingerNames(const std::vector<PerFinger>& items) {
 
 template <typename Msg>
 bool Decode(Msg* m, const uint8_t* data, size_t size) {
-  return size <= static_cast<size_t>(INT32_MAX) && m->decode(data, 0, static_cast<int>(size)) >= 0;
+  return size <= static_cast<size_t>(INT32_MAX) && DecodeMessage(data, static_cast<uint32_t>(size), m);
 }
 
 bool AddSensors(LogColumns::Channel* ch, const hand_sensors_t& m) {

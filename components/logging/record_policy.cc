@@ -4,6 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "components/logging/decode.h"
 #include "components/runtime/channels.h"
 #include "dmpl/hand_sensors_t.hpp"
 
@@ -109,7 +110,7 @@ bool RecordFilter::Keep(const std::string& channel, const void* data, size_t siz
 bool RecordFilter::TouchChanged(const std::string& channel, const KeepRule& rule, const void* data,
                                 size_t size) {
   hand_sensors_t m;
-  if (m.decode(data, 0, static_cast<int>(size)) < 0) return true;  // keep what tools cannot read
+  if (!DecodeMessage(data, static_cast<uint32_t>(size), &m)) return true;  // keep what tools cannot read
   std::vector<double> touch;
   for (const auto& f : m.tactile.fingers) touch.push_back(f.in_contact ? f.force_n : -1.0);
   std::vector<double>& last = last_touch_[channel];

@@ -51,6 +51,14 @@ void Node::AddTimer(double period_s, std::function<void()> fn) {
   timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn)});
 }
 
+void Node::CountUndecodable(const std::string& channel, const char* type, uint32_t size) {
+  ++undecodable_;
+  if (undecodable_ <= 5 || undecodable_ % 1000 == 0) {
+    log().warn("a message on {} is not a {} ({} bytes); {} so far, ignored", channel, type, size,
+               undecodable_);
+  }
+}
+
 void Node::KeepForResend(const RunParams& run, size_t depth) {
   resender_ = std::make_unique<Resender>(depth, run.lockstep ? run.resend_after_s : 0.0);
   if (resender_->enabled()) {

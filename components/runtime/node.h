@@ -14,12 +14,21 @@
 
 #include "components/runtime/clock.h"
 #include "components/runtime/config.h"
+#include "components/logging/decode.h"
 #include "components/runtime/lcm_bus.h"
 #include "components/runtime/resend.h"
 
 namespace dmpl {
 
 class Node {
+  // One subscription that decodes its messages itself (see Subscribe).
+  struct Decoding {
+    std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn;
+    void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+      fn(rbuf, channel);
+    }
+  };
+
  public:
   Node(std::string name, LcmBus* bus);
   virtual ~Node() = default;
@@ -36,6 +45,29 @@ class Node {
   virtual void OnStart() {}
   // Called once when the executor stops, before destruction.
   virtual void OnStop() {}
+
+  // Subscribes `handler->*method` (LCM's typed handler signature) to `channel`, decoding here
+  // rather than in LCM: a message that is not a Msg (garbage, truncated, another type) is
+  // counted and logged at a limited rate, where LCM would print every one.
+  template <typename Msg, typename Handler>
+  void Subscribe(const std::string& channel,
+                 void (Handler::*method)(const lcm::ReceiveBuffer*, const std::string&,
+                                         const Msg*),
+                 Handler* handler) {
+    auto decoding = std::make_unique<Decoding>();
+    decoding->fn = [this, method, handler](const lcm::ReceiveBuffer* rbuf,
+                                           const std::string& ch) {
+      Msg msg;
+      if (!DecodeMessage(rbuf->data, rbuf->data_size, &msg)) {
+        CountUndecodable(ch, Msg::getTypeName(), rbuf->data_size);
+        return;
+      }
+      (handler->*method)(rbuf, ch, &msg);
+    };
+    listen(channel).subscribe(channel, &Decoding::OnMessage, decoding.get());
+    subscriptions_.push_back(std::move(decoding));
+  }
+  int64_t undecodable() const { return undecodable_; }
 
   // Runs `fn` every `period_s` seconds of wall time from the executor's loop.
   void AddTimer(double period_s, std::function<void()> fn);
@@ -75,8 +107,12 @@ class Node {
   std::string name_;
   LcmBus* bus_;
   std::shared_ptr<spdlog::logger> logger_;
+  void CountUndecodable(const std::string& channel, const char* type, uint32_t size);
+
   std::vector<Timer> timers_;
   std::unique_ptr<Resender> resender_;
+  std::vector<std::unique_ptr<Decoding>> subscriptions_;
+  int64_t undecodable_ = 0;
   bool exit_requested_ = false;
   int exit_code_ = 0;
   int64_t tick_ = -1;

@@ -19,7 +19,7 @@ class JointPlayerNode : public Node {
         trajectory_(model, params.waypoints, ctx.config.source()) {
     cmd_.name = model.actuated_names();
     cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
-    listen(channels::kSensors).subscribe(channels::kSensors, &JointPlayerNode::OnSensors, this);
+    Subscribe(channels::kSensors, &JointPlayerNode::OnSensors, this);
   }
 
  private:

@@ -19,7 +19,7 @@ class NoiseNode : public Node {
         injector_(params, ctx.run.seed),
         view_gate_(ctx.run.view_rate_hz) {
     KeepForResend(ctx.run, 4);
-    listen(channels::kSensorsTrue).subscribe(channels::kSensorsTrue, &NoiseNode::OnSensors, this);
+    Subscribe(channels::kSensorsTrue, &NoiseNode::OnSensors, this);
     AddTimer(1.0, [this] { ReportRejections(); });
   }
 

@@ -39,9 +39,9 @@ class SimNode : public Node {
         sim_params_(sim),
         model_(std::move(model)),
         sim_(model_, sim, object) {
-    listen(channels::kJointCmd).subscribe(channels::kJointCmd, &SimNode::OnJointCmd, this);
-    listen(channels::kSimControl).subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
-    listen(channels::kHeartbeat).subscribe(channels::kHeartbeat, &SimNode::OnHeartbeat, this);
+    Subscribe(channels::kJointCmd, &SimNode::OnJointCmd, this);
+    Subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
+    Subscribe(channels::kHeartbeat, &SimNode::OnHeartbeat, this);
     for (const auto& p : run_.lockstep_participants) waiting_for_.push_back(p);
     KeepForResend(run_, 4);  // the truths of the ticks that may still be unanswered
     PrepareMessages();
@@ -290,9 +290,19 @@ class SimNode : public Node {
         log().info("reset to the initial scenario");
         break;
       case sim_control_t::PAUSE:
+        // Said loudly: a pause from anything on the bus holds the whole run.
+        if (!paused_) {
+          log().warn("paused at t = {:.3f} s by a SIM_CONTROL ('{}'); the run waits for a RESUME",
+                     sim_.time(), c.reason);
+          paused_since_ = MonotonicSeconds();
+        }
         paused_ = true;
         break;
       case sim_control_t::RESUME:
+        if (paused_) {
+          log().warn("resumed at t = {:.3f} s by a SIM_CONTROL ('{}') after {:.1f} s", sim_.time(),
+                     c.reason, MonotonicSeconds() - paused_since_);
+        }
         paused_ = false;
         break;
       case sim_control_t::STOP:
@@ -408,6 +418,15 @@ class SimNode : public Node {
 
   void ReportProgress() {
     if (!started_) return;
+    if (paused_) {
+      const double paused_s = MonotonicSeconds() - paused_since_;
+      set_status(heartbeat_t::RUNNING, "paused for " + std::to_string(paused_s) + " s");
+      if (std::fmod(paused_s, 30.0) < 2.0) {  // every half minute
+        log().warn("still paused at t = {:.3f} s ({:.0f} s): waiting for a RESUME", sim_.time(),
+                   paused_s);
+      }
+      return;
+    }
     set_status(heartbeat_t::RUNNING, "t = " + std::to_string(sim_.time()) + " s");
   }
 
@@ -422,6 +441,7 @@ class SimNode : public Node {
   std::map<int64_t, joint_cmd_t> commands_;  // by seq, not yet applied
   bool started_ = false;
   bool paused_ = false;
+  double paused_since_ = 0;
   int64_t tick_ = 0;
   int faults_ = 0;
   int rejected_ = 0;

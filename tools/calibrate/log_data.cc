@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "components/logging/decode.h"
 #include "components/logging/event_log_reader.h"
 #include "components/runtime/channels.h"
 #include "dmpl/controller_status_t.hpp"
@@ -35,7 +36,7 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
       const std::string channel(e->channel);
       if (channel == channels::kSensors || channel == channels::kSensorsTrue) {
         hand_sensors_t m;
-        if (m.decode(e->data, 0, static_cast<int>(e->size)) >= 0) {
+        if (DecodeMessage(e->data, static_cast<uint32_t>(e->size), &m)) {
           Tick& tick = data.ticks[offset + m.seq];
           tick.t = m.utime * 1e-6;
           if (data.fingers.empty()) {
@@ -57,7 +58,7 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
         }
       } else if (channel == channels::kControllerStatus) {
         controller_status_t m;
-        if (m.decode(e->data, 0, static_cast<int>(e->size)) >= 0) {
+        if (DecodeMessage(e->data, static_cast<uint32_t>(e->size), &m)) {
           Tick& tick = data.ticks[offset + m.seq];
           tick.control.clear();
           for (const auto& f : m.fingers) {
