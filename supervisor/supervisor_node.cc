@@ -4,11 +4,13 @@
 // takes effect at a defined tick.
 //   dmpl_supervisor --dot      prints the charts (grasp; regrasp per task.turn; Graphviz), exits
 //   dmpl_supervisor --mermaid  the same in Mermaid, as drawn in the README
+#include <cmath>
 #include <cstring>
 #include <iostream>
 #include <map>
 
 #include "components/hand/hand_model.h"
+#include "components/kinematics/hand_kinematics.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
 #include "components/runtime/node.h"
@@ -61,6 +63,17 @@ class SupervisorNode : public Node {
 
   void OnReport(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
     if (answered_any_ && m->seq <= last_seq_) return;  // a copy of a report already answered
+    std::string why = OutOfRange(*m);
+    if (answered_any_ && m->seq > last_seq_ + kMaxAhead) {
+      why = "tick far ahead of " + std::to_string(last_seq_) + " (forged, or another run's)";
+    }
+    if (!why.empty()) {
+      ++rejected_;
+      if (rejected_ <= 5 || rejected_ % 1000 == 0) {
+        log().warn("report {} rejected: {} ({} so far)", m->seq, why, rejected_);
+      }
+      return;
+    }
     answered_any_ = true;
     ControllerView view;
     view.seq = m->seq;
@@ -109,6 +122,28 @@ class SupervisorNode : public Node {
     last_seq_ = m->seq;
     last_utime_ = m->utime;
     set_tick(m->seq);
+  }
+
+  // Why a report is not one the controller can have sent (NaN, beyond the hand's physical
+  // range), or empty.
+  static std::string OutOfRange(const controller_status_t& m) {
+    const Eigen::Vector3d object(m.object_position[0], m.object_position[1], m.object_position[2]);
+    if (!object.allFinite() || object.norm() > InputBounds::kWorkspaceRadiusM) {
+      return "object estimate outside the hand's workspace";
+    }
+    for (double q : m.object_orientation) {
+      if (!std::isfinite(q)) return "object orientation with NaN";
+    }
+    for (const auto& f : m.fingers) {
+      const Eigen::Vector3d tip(f.tip_position[0], f.tip_position[1], f.tip_position[2]);
+      if (!tip.allFinite() || tip.norm() > InputBounds::kWorkspaceRadiusM) {
+        return "finger " + f.finger + " tip outside the hand's workspace";
+      }
+      if (!std::isfinite(f.force_n) || std::abs(f.force_n) > InputBounds::kMaxForceN) {
+        return "finger " + f.finger + " force beyond the sensor's range";
+      }
+    }
+    return "";
   }
 
   int Index(const std::string& finger) const {
@@ -192,6 +227,8 @@ class SupervisorNode : public Node {
   double started_ = MonotonicSeconds();
   int64_t last_seq_ = 0;
   bool answered_any_ = false;
+  int64_t rejected_ = 0;
+  static constexpr int64_t kMaxAhead = 1000;  // ticks
   int64_t last_utime_ = 0;
 };
 

@@ -89,6 +89,7 @@ class ControllerNode : public Node {
 
   void OnSensors(const lcm::ReceiveBuffer*, const std::string&, const hand_sensors_t* m) {
     if (lockstep_ && m->seq <= gate_.last_tick()) return;  // a copy of a tick already computed
+    if (FarAhead("sensed data", m->seq)) return;
     // Kept by seq: with an actuation delay the simulator runs ahead, and the sensed data of
     // tick k + 1 can arrive while tick k still waits for its task.
     SensedInput& in = sensed_by_seq_[m->seq];
@@ -108,7 +109,20 @@ class ControllerNode : public Node {
     Arrived(kSensorsIn, m->seq);
   }
 
+  // Lockstep: a seq far past the loop's tick is forged or another run's; adopting it would
+  // push the real ticks out of the queues (or, for a task, answer ticks not yet asked).
+  bool FarAhead(const char* what, int64_t seq) {
+    if (!lockstep_ || gate_.last_tick() < 0 || seq <= gate_.last_tick() + kMaxAhead) return false;
+    ++rejected_;
+    if (rejected_ <= 5 || rejected_ % 1000 == 0) {
+      log().warn("{} for tick {}, far ahead of tick {}: not adopted ({} rejected so far)", what,
+                 seq, gate_.last_tick(), rejected_);
+    }
+    return true;
+  }
+
   void OnTask(const lcm::ReceiveBuffer*, const std::string&, const task_cmd_t* m) {
+    if (FarAhead("task", m->seq)) return;
     TaskInput t;
     t.task_id = m->task_id;
     t.name = m->name;
@@ -251,7 +265,8 @@ class ControllerNode : public Node {
   };
   std::map<int64_t, ArrivedTask> tasks_;  // by seq
   int64_t forwarded_task_seq_ = std::numeric_limits<int64_t>::min();
-  int64_t rejected_ = 0;  // sensed inputs rejected (NaN, out of range)
+  int64_t rejected_ = 0;  // sensed inputs rejected (NaN, out of range, far ahead)
+  static constexpr int64_t kMaxAhead = 1000;  // ticks; as InOrder's
   int32_t last_task_id_ = -1;
   finger_targets_t targets_{};
   controller_status_t status_{};

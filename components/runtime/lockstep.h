@@ -64,7 +64,7 @@ class InOrder {
   // Records `item`; the items now deliverable, oldest first, go to `ready`.
   Verdict Arrive(int64_t seq, T item, std::vector<T>* ready) {
     ready->clear();
-    if (started_ && seq < next_) return Verdict::kDuplicate;
+    if (seq < 0 || (started_ && seq < next_)) return Verdict::kDuplicate;  // ticks count from 0
     if (started_ && seq - next_ > max_ahead_) return Verdict::kTooFarAhead;
     if (!started_) {
       started_ = true;

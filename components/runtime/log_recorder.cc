@@ -1,6 +1,5 @@
 #include "components/runtime/log_recorder.h"
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -47,14 +46,20 @@ void LogRecorder::Finish() {
 }
 
 bool LogRecorder::IsCopy(const std::string& channel, const uint8_t* data, size_t size) {
-  // Resent messages are among the last few of a node (resend.h keeps at most 8).
-  constexpr size_t kRemembered = 16;
+  // A resent message is one of a node's last 8, sent again within about a second (resend.h);
+  // the window is wide enough that other traffic on the channel (garbage, a forger's) cannot
+  // push the original out of it first.
+  constexpr size_t kRemembered = 512;
   uint64_t hash = 14695981039346656037ull;  // FNV-1a
   for (size_t i = 0; i < size; ++i) hash = (hash ^ data[i]) * 1099511628211ull;
-  std::deque<uint64_t>& recent = recent_[channel];
-  if (std::find(recent.begin(), recent.end(), hash) != recent.end()) return true;
-  recent.push_back(hash);
-  if (recent.size() > kRemembered) recent.pop_front();
+  RecentHashes& recent = recent_[channel];
+  if (recent.set.count(hash) != 0) return true;
+  recent.order.push_back(hash);
+  recent.set.insert(hash);
+  if (recent.order.size() > kRemembered) {
+    recent.set.erase(recent.order.front());
+    recent.order.pop_front();
+  }
   return false;
 }
 

@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "components/logging/log_columns.h"
@@ -48,7 +49,11 @@ class LogRecorder {
   // True when the message's bytes are those of one of the last on its channel: a copy sent
   // again after a loss (resend.h), which the log keeps once.
   bool IsCopy(const std::string& channel, const uint8_t* data, size_t size);
-  std::unordered_map<std::string, std::deque<uint64_t>> recent_;  // per channel, hashes
+  struct RecentHashes {
+    std::deque<uint64_t> order;
+    std::unordered_set<uint64_t> set;
+  };
+  std::unordered_map<std::string, RecentHashes> recent_;  // per channel
   lcm_eventlog_t* log_ = nullptr;
   RecordFilter filter_;
   std::unique_ptr<LogColumns> columns_;

@@ -2,7 +2,9 @@
 what a user meets: a second run started in another terminal, Ctrl-C, a process that dies, bad
 files and values."""
 import json
+import math
 import os
+import random
 import signal
 import subprocess
 import sys
@@ -13,7 +15,8 @@ import unittest
 from pathlib import Path
 
 import mp
-from dmpl import heartbeat_t, sim_status_t
+from dmpl import (finger_targets_t, hand_sensors_t, heartbeat_t, joint_cmd_t, sim_control_t,
+                  sim_status_t)
 from dmpl_tools import channels
 from dmpl_tools.run import run_experiment
 
@@ -36,6 +39,52 @@ def wait_for_process(name, timeout=30.0):
     bus.subscribe(channels.HEARTBEAT, on_heartbeat)
     bus.wait_for(lambda: "pid" in found, timeout, f"{name} running")
     return found["pid"]
+
+
+def forge(stop):
+    """Sends bad messages on the loop's channels until `stop` is set."""
+    rng = random.Random(3)
+    bus = mp.Bus()
+    names = [f"{f}_j{j}" for f in "TFMR" for j in range(4)]
+
+    def sensors(seq, value, n=16):
+        m = hand_sensors_t()
+        m.seq, m.utime = seq, 0
+        m.joints.num_joints, m.joints.name = n, names[:n]
+        m.joints.position = m.joints.velocity = m.joints.effort = [value] * n
+        return m
+
+    def targets(seq, value, n=16):
+        m = finger_targets_t()
+        m.seq, m.num_joints, m.joint_position = seq, n, [value] * n
+        return m
+
+    def command(seq, value, n=16):
+        m = joint_cmd_t()
+        m.seq, m.num_joints, m.name, m.position = seq, n, names[:n], [value] * n
+        return m
+
+    forged = {channels.SENSORS: sensors, channels.FINGER_TARGETS: targets,
+              channels.JOINT_CMD: command}
+    every = [channels.SENSORS_TRUE, channels.TASK, channels.CONTROLLER_REPORT,
+             channels.HEARTBEAT, channels.SIM_CONTROL, *forged]
+    sent = 0
+    while not stop.is_set():
+        channel = rng.choice(every)
+        if channel in forged and rng.random() < 0.5:
+            seq = rng.choice([-7, -1, 10 ** 9, 2 ** 62])
+            value = rng.choice([math.nan, 1e300, -1e9, 0.3])
+            n = rng.choice([16, 3, 0])
+            data = forged[channel](seq, value, n).encode()
+        elif rng.random() < 0.5:
+            data = bytes(rng.getrandbits(8) for _ in range(rng.randrange(0, 600)))
+        else:
+            data = sensors(5, 0.1).encode()
+            data = data[:rng.randrange(0, len(data))]
+        bus.buses.publish(channel, data)
+        sent += 1
+        time.sleep(0.003)
+    return sent
 
 
 class FaultsTest(unittest.TestCase):
@@ -97,6 +146,42 @@ class FaultsTest(unittest.TestCase):
         self.assertIn("process failure: dmpl_controller", summary["problems"])
         # The set stops within a second of the death (the launcher looks every 50 ms).
         self.assertLess(summary["sim_time_s"], killed_at + 1.0)
+
+    def test_a_run_goes_on_through_garbage_forgeries_and_a_stray_pause(self):
+        # While a lockstep gait runs, this test sends on every channel of the loop random bytes
+        # and truncated messages; on the channels only nodes read (the metrics' are the truth,
+        # the task and the report), real messages forged with a seq the loop is not at (negative,
+        # far ahead) and NaN, huge values or the wrong number of joints; then a PAUSE from
+        # nowhere and a RESUME a second later. The run ends as one without any of it.
+        clean, _ = run_experiment(GAIT, self.tmp / "clean", echo=False, sets=["task.angle=1.5"])
+        result, stop = {}, threading.Event()
+        thread = threading.Thread(target=lambda: result.update(run_experiment(
+            GAIT, self.tmp / "attacked", echo=False, sets=["task.angle=1.5"])[0]))
+        thread.start()
+        wait_for_process("dmpl_sim")
+        forger = threading.Thread(target=forge, args=(stop,))
+        forger.start()
+        bus = mp.Bus()
+        time.sleep(1.0)
+        pause = sim_control_t()
+        pause.seq, pause.command, pause.reason = -1, sim_control_t.PAUSE, "a stray pause"
+        bus.publish(channels.SIM_CONTROL, pause)
+        time.sleep(1.0)
+        pause.command, pause.reason = sim_control_t.RESUME, "the stray pause's end"
+        bus.publish(channels.SIM_CONTROL, pause)
+        thread.join()
+        stop.set()
+        forger.join()
+        self.assertEqual(result["status"], "success", result.get("problems"))
+        ignore = {"wall_time_s", "realtime_factor", "warnings"}
+        differ = {k: (clean.get(k), result.get(k)) for k in set(clean) | set(result)
+                  if k not in ignore and clean.get(k) != result.get(k)}
+        self.assertEqual(differ, {})
+        sim_log = (self.tmp / "attacked" / "dmpl_sim.log").read_text()
+        self.assertIn("by a SIM_CONTROL ('a stray pause')", sim_log)
+        self.assertIn("resumed at", sim_log)
+        for node in ("dmpl_noise", "dmpl_controller", "dmpl_ik"):
+            self.assertIn("is not a", (self.tmp / "attacked" / f"{node}.log").read_text(), node)
 
     def test_bad_files_and_values_are_one_clear_error(self):
         bad_urdf = self.tmp / "bad.urdf"

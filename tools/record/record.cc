@@ -103,7 +103,10 @@ int main(int argc, char** argv) {
         last_flush = dmpl::MonotonicSeconds();
       }
     }
-    while (drain(20) > 0) {  // what arrived before the stop
+    // What arrived before the stop, for at most a second: a bus that never goes quiet (another
+    // run, a forger) must not keep the recorder from finishing its log.
+    const double drain_until = dmpl::MonotonicSeconds() + 1.0;
+    while (drain(20) > 0 && dmpl::MonotonicSeconds() < drain_until) {
     }
     recorder.Finish();
     std::fprintf(stderr, "dmpl_record: %lld of %lld messages written to %s (policy %s)%s\n",

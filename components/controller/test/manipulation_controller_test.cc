@@ -165,6 +165,37 @@ TEST(ManipulationControllerTest, NanInputIsRejectedAndTheTargetsHeld) {
   EXPECT_EQ(ctl.Step(in, fx.Grip()).events.at(0).type, EventType::kInputRejected);
 }
 
+TEST(ManipulationControllerTest, InputBeyondThePhysicalRangeIsRejectedLikeNan) {
+  // Finite but impossible values (a corrupt or forged message) must not reach the control law.
+  Fixture fx;
+  ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);
+  const ControllerOutput first = ctl.Step(fx.Input(0), fx.Grip());
+  auto rejected = [&](SensedInput in) {
+    const ControllerOutput& out = ctl.Step(in, fx.Grip());
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(out.fingers[f].target, first.fingers[f].target);
+    return out.events.size() == 1 && out.events[0].type == EventType::kInputRejected;
+  };
+  SensedInput in = fx.Input(1);
+  in.q[3] = 1e300;  // rad
+  EXPECT_TRUE(rejected(in));
+  in = fx.Input(2);
+  const int j = fx.kin.joint_indices(1)[1];  // the forefinger's second joint
+  in.q[j] = fx.kin.finger(1).upper()[1] + InputBounds::kJointMarginRad + 0.01;
+  EXPECT_TRUE(rejected(in));
+  in = fx.Input(3);
+  in.tips[2].force = 1e9;  // N
+  EXPECT_TRUE(rejected(in));
+  in = fx.Input(4);
+  in.object_valid = true;
+  in.object.translation() = Eigen::Vector3d(3.0, 0.0, 0.0);  // m: far outside the hand
+  EXPECT_TRUE(rejected(in));
+  // Within the limits' margin (noise, overshoot) is accepted.
+  in = fx.Input(5);
+  in.q[j] = fx.kin.finger(1).upper()[1] + InputBounds::kJointMarginRad / 2;
+  EXPECT_TRUE(ctl.Step(in, fx.Grip()).events.empty() ||
+              ctl.output().events[0].type != EventType::kInputRejected);
+}
+
 TEST(ManipulationControllerTest, PositionPrimitiveApproachesAtBoundedSpeed) {
   Fixture fx;
   ControllerParams params;
