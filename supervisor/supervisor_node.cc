@@ -29,7 +29,7 @@ class SupervisorNode : public Node {
  public:
   SupervisorNode(const NodeContext& ctx, std::vector<std::string> fingers, TaskFile tasks,
                  const TaskParams& task_params, const SupervisorParams& params)
-      : Node(ctx.name, ctx.bus),
+      : Node(ctx),
         params_(params),
         fingers_(fingers),
         core_(fingers, std::move(tasks), task_params, params,
@@ -156,6 +156,7 @@ class SupervisorNode : public Node {
   void PublishTask(const TaskInput& t, int64_t seq, int64_t utime, int8_t sim_command,
                    const std::string& reason) {
     task_cmd_t m{};
+    m.run_id = run_id();
     m.sim_command = sim_command;
     m.sim_command_reason = reason;
     m.utime = utime;

@@ -43,7 +43,7 @@ void PoseTo(const Eigen::Isometry3d& t, double p[3], double q[4]) {
 class ControllerNode : public Node {
  public:
   ControllerNode(const NodeContext& ctx, HandModel model, const ControllerParams& params)
-      : Node(ctx.name, ctx.bus),
+      : Node(ctx),
         lockstep_(ctx.run.lockstep),
         wait_for_task_(params.wait_for_task),
         model_(std::move(model)),
@@ -54,6 +54,7 @@ class ControllerNode : public Node {
                        ctx.run.resend_after_s > 0)) {
     KeepForResend(ctx.run, 8);  // targets and reports
     const int nf = kin_.num_fingers();
+    targets_.run_id = status_.run_id = run_id();
     task_.fingers.resize(nf);
     sensed_.tips.resize(nf);
     targets_.num_fingers = static_cast<int8_t>(nf);

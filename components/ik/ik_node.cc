@@ -21,11 +21,12 @@ namespace {
 class IkNode : public Node {
  public:
   IkNode(const NodeContext& ctx, HandModel model, const IkParams& params)
-      : Node(ctx.name, ctx.bus),
+      : Node(ctx),
         lockstep_(ctx.run.lockstep),
         model_(std::move(model)),
         kin_(model_),
         ik_(kin_, params) {
+    cmd_.run_id = run_id();
     cmd_.name = model_.actuated_names();
     cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
     status_.num_fingers = static_cast<int8_t>(kin_.num_fingers());

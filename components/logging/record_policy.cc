@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "components/logging/decode.h"
+#include "components/logging/message_layout.h"
 #include "components/runtime/channels.h"
 #include "dmpl/hand_sensors_t.hpp"
 
@@ -59,14 +60,6 @@ KeepRule RuleFor(RecordPolicy policy, const std::string& channel) {
   return {KeepRule::kAll};
 }
 
-int64_t SeqOfMessage(const void* data, size_t size) {
-  if (size < 24) return -1;
-  const auto* b = static_cast<const uint8_t*>(data) + 16;
-  uint64_t v = 0;
-  for (int i = 0; i < 8; ++i) v = (v << 8) | b[i];
-  return static_cast<int64_t>(v);
-}
-
 bool RecordFilter::Keep(const std::string& channel, const void* data, size_t size) {
   auto it = rules_.find(channel);
   if (it == rules_.end()) it = rules_.emplace(channel, RuleFor(policy_, channel)).first;
@@ -77,21 +70,22 @@ bool RecordFilter::Keep(const std::string& channel, const void* data, size_t siz
     case KeepRule::kNever:
       return false;
     case KeepRule::kEveryTicksOrTouch: {
-      const int64_t seq = SeqOfMessage(data, size);
+      const int64_t seq = SeqOf(data, size);
       const bool changed = TouchChanged(channel, rule, data, size);  // always tracks the touch
       return seq < 0 || seq % rule.period == 0 || changed;
     }
     case KeepRule::kEveryTicks:
     case KeepRule::kBursts: {
-      const int64_t seq = SeqOfMessage(data, size);
+      const int64_t seq = SeqOf(data, size);
       if (seq < 0) return true;
       const int64_t phase = seq % rule.period;
       return rule.kind == KeepRule::kEveryTicks ? phase == 0 : phase < rule.length;
     }
     case KeepRule::kOnChange: {
-      // The content after fingerprint, utime and seq: a task re-sent unchanged is not kept.
+      // The content after the header (fingerprint, run, utime, seq): a task re-sent unchanged
+      // is not kept.
       const auto* bytes = static_cast<const uint8_t*>(data);
-      const size_t skip = size < 24 ? size : 24;
+      const size_t skip = HeaderSize(data, size);
       auto [last, first] = last_kept_.try_emplace(channel);
       std::vector<uint8_t>& kept = last->second;
       if (!first && kept.size() == size - skip &&
@@ -118,7 +112,7 @@ bool RecordFilter::TouchChanged(const std::string& channel, const KeepRule& rule
   for (size_t i = 0; !changed && i < touch.size(); ++i) {
     changed = (touch[i] < 0) != (last[i] < 0) || std::abs(touch[i] - last[i]) > rule.force_jump_n;
   }
-  const bool due = SeqOfMessage(data, size) % rule.period == 0;
+  const bool due = SeqOf(data, size) % rule.period == 0;
   if (changed || due) last = touch;
   return changed;
 }

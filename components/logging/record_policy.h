@@ -56,7 +56,4 @@ class RecordFilter {
                                                            // force (or -1: no contact)
 };
 
-// The tick (seq) of a dmpl message, or -1 when it is too short to carry one.
-int64_t SeqOfMessage(const void* data, size_t size);
-
 }  // namespace dmpl

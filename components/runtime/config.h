@@ -26,6 +26,8 @@ struct RunParams {
   std::string record = "full";     // what the run's log keeps: full, analysis or none (tools)
   double view_rate_hz = 30.0;      // DMPL_VIEW_TRUTH / _SENSED for viewers (sim time); 0: none
   bool respawn = false;            // the launcher restarts a process that dies (tools)
+  int64_t run_id = 0;              // this run's identity (tools/dmpl run draws one): messages
+                                   // of another run are ignored; 0: none (accepts every run's)
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -41,6 +43,7 @@ struct RunParams {
     a->Visit(DMPL_NVP(record));
     a->Visit(DMPL_NVP(view_rate_hz));
     a->Visit(DMPL_NVP(respawn));
+    a->Visit(DMPL_NVP(run_id));
   }
 };
 

@@ -4,9 +4,22 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "components/logging/message_layout.h"
+
 namespace dmpl {
 
-LogRecorder::LogRecorder(LcmBus* bus, const RecordOptions& options) : filter_(options.policy) {
+namespace {
+
+// A message of another run: its run is neither `run_id` nor none.
+bool OfAnotherRun(const uint8_t* data, size_t size, int64_t run_id) {
+  const int64_t theirs = RunIdOf(data, size);
+  return run_id != 0 && theirs != 0 && theirs != run_id;
+}
+
+}  // namespace
+
+LogRecorder::LogRecorder(LcmBus* bus, const RecordOptions& options)
+    : filter_(options.policy), run_id_(options.run_id) {
   if (options.policy != RecordPolicy::kNone) {
     if (options.log_path.empty()) throw std::runtime_error("no log file to record to");
     log_ = lcm_eventlog_create(options.log_path.c_str(), "w");
@@ -65,6 +78,10 @@ bool LogRecorder::IsCopy(const std::string& channel, const uint8_t* data, size_t
 
 void LogRecorder::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
   const auto* data = static_cast<const uint8_t*>(rbuf->data);
+  if (OfAnotherRun(data, rbuf->data_size, run_id_)) {
+    ++foreign_;
+    return;
+  }
   if (IsCopy(channel, data, rbuf->data_size)) {
     ++copies_;
     return;

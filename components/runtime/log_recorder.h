@@ -26,6 +26,7 @@ struct RecordOptions {
   std::string channels = ".*";
   std::string columns_dir;            // non-empty: the metrics' columns of every message, online
   std::string columns_fields = ".*";  // which of their fields (LogColumns)
+  int64_t run_id = 0;                 // non-zero: messages of another run are not recorded
 };
 
 class LogRecorder {
@@ -43,6 +44,7 @@ class LogRecorder {
   int64_t written() const { return written_; }
   int64_t failed() const { return failed_; }
   int64_t copies() const { return copies_; }
+  int64_t foreign() const { return foreign_; }
 
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
@@ -62,6 +64,8 @@ class LogRecorder {
   int64_t written_ = 0;
   int64_t failed_ = 0;
   int64_t copies_ = 0;
+  int64_t foreign_ = 0;
+  int64_t run_id_ = 0;
 };
 
 }  // namespace dmpl

@@ -51,6 +51,16 @@ void Node::AddTimer(double period_s, std::function<void()> fn) {
   timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn)});
 }
 
+Node::Node(const NodeContext& ctx) : Node(ctx.name, ctx.bus) { run_id_ = ctx.run.run_id; }
+
+void Node::CountForeign(const std::string& channel, int64_t run_id) {
+  ++foreign_;
+  if (foreign_ <= 5 || foreign_ % 1000 == 0) {
+    log().warn("a message on {} belongs to another run ({:x}, this is {:x}); {} so far, ignored",
+               channel, run_id, run_id_, foreign_);
+  }
+}
+
 void Node::CountUndecodable(const std::string& channel, const char* type, uint32_t size) {
   ++undecodable_;
   if (undecodable_ <= 5 || undecodable_ % 1000 == 0) {
@@ -84,6 +94,7 @@ void Executor::Add(Node* node) { nodes_.push_back(node); }
 void Executor::PublishHeartbeats(int8_t state) {
   for (Node* node : nodes_) {
     heartbeat_t hb;
+    hb.run_id = node->run_id_;
     hb.utime = WallMicros();
     hb.seq = node->tick_;
     hb.process = node->name_;

@@ -7,6 +7,8 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
@@ -20,6 +22,14 @@
 
 namespace dmpl {
 
+struct NodeContext;
+
+// Whether a message type carries the run it belongs to (run_id).
+template <typename Msg, typename = void>
+struct HasRunId : std::false_type {};
+template <typename Msg>
+struct HasRunId<Msg, std::void_t<decltype(std::declval<Msg>().run_id)>> : std::true_type {};
+
 class Node {
   // One subscription that decodes its messages itself (see Subscribe).
   struct Decoding {
@@ -31,6 +41,8 @@ class Node {
 
  public:
   Node(std::string name, LcmBus* bus);
+  // A node of a run: its name, bus and run identity (run.run_id).
+  explicit Node(const NodeContext& ctx);
   virtual ~Node() = default;
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
@@ -62,12 +74,24 @@ class Node {
         CountUndecodable(ch, Msg::getTypeName(), rbuf->data_size);
         return;
       }
+      if constexpr (HasRunId<Msg>::value) {
+        if (!OfThisRun(msg.run_id)) {
+          CountForeign(ch, msg.run_id);
+          return;
+        }
+      }
       (handler->*method)(rbuf, ch, &msg);
     };
     listen(channel).subscribe(channel, &Decoding::OnMessage, decoding.get());
     subscriptions_.push_back(std::move(decoding));
   }
   int64_t undecodable() const { return undecodable_; }
+  // This run's identity, for the messages the node sends (0: none).
+  int64_t run_id() const { return run_id_; }
+  // A message of `run_id` is this run's: the same id, or none on either side (sent by hand).
+  bool OfThisRun(int64_t run_id) const {
+    return run_id == 0 || run_id_ == 0 || run_id == run_id_;
+  }
 
   // Runs `fn` every `period_s` seconds of wall time from the executor's loop.
   void AddTimer(double period_s, std::function<void()> fn);
@@ -108,11 +132,14 @@ class Node {
   LcmBus* bus_;
   std::shared_ptr<spdlog::logger> logger_;
   void CountUndecodable(const std::string& channel, const char* type, uint32_t size);
+  void CountForeign(const std::string& channel, int64_t run_id);
 
   std::vector<Timer> timers_;
   std::unique_ptr<Resender> resender_;
   std::vector<std::unique_ptr<Decoding>> subscriptions_;
   int64_t undecodable_ = 0;
+  int64_t foreign_ = 0;
+  int64_t run_id_ = 0;
   bool exit_requested_ = false;
   int exit_code_ = 0;
   int64_t tick_ = -1;

@@ -14,9 +14,10 @@ namespace {
 class JointPlayerNode : public Node {
  public:
   JointPlayerNode(const NodeContext& ctx, const HandModel& model, const JointPlayerParams& params)
-      : Node(ctx.name, ctx.bus),
+      : Node(ctx),
         params_(params),
         trajectory_(model, params.waypoints, ctx.config.source()) {
+    cmd_.run_id = run_id();
     cmd_.name = model.actuated_names();
     cmd_.num_joints = static_cast<int16_t>(cmd_.name.size());
     Subscribe(channels::kSensors, &JointPlayerNode::OnSensors, this);
@@ -44,6 +45,7 @@ class JointPlayerNode : public Node {
 
   void SendControl(int8_t command, int64_t seq, const std::string& reason) {
     sim_control_t c{};
+    c.run_id = run_id();
     c.seq = seq;
     c.command = command;
     c.reason = reason;
@@ -52,7 +54,7 @@ class JointPlayerNode : public Node {
 
   JointPlayerParams params_;
   JointTrajectory trajectory_;
-  joint_cmd_t cmd_;
+  joint_cmd_t cmd_{};
   int64_t last_seq_ = -1;
   bool released_ = false;
   bool stopped_ = false;

@@ -204,7 +204,8 @@ std::optional<hand_sensors_t> NoiseInjector::Sense(const hand_sensors_t& truth) 
   auto object = Sense(truth.object);
   auto tactile = Sense(truth.tactile);
   if (!joints || !object || !tactile) return std::nullopt;
-  hand_sensors_t out;
+  hand_sensors_t out{};
+  out.run_id = truth.run_id;
   out.utime = truth.utime;
   out.seq = truth.seq;
   out.joints = std::move(*joints);

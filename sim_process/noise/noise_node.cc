@@ -14,7 +14,7 @@ namespace {
 class NoiseNode : public Node {
  public:
   NoiseNode(const NodeContext& ctx, const NoiseParams& params)
-      : Node(ctx.name, ctx.bus),
+      : Node(ctx),
         lockstep_(ctx.run.lockstep),
         injector_(params, ctx.run.seed),
         view_gate_(ctx.run.view_rate_hz) {
@@ -40,6 +40,7 @@ class NoiseNode : public Node {
 
   void Sense(const hand_sensors_t& truth) {
     if (auto sensed = injector_.Sense(truth)) {
+      sensed->run_id = run_id();
       PublishLoop(channels::kSensors, *sensed);
       if (view_gate_.Due(sensed->utime)) {
         lcm(channels::kViewSensed).publish(channels::kViewSensed, &*sensed);

@@ -33,7 +33,7 @@ constexpr int kExitLockstepFault = 4;
 class SimNode : public Node {
  public:
   SimNode(const NodeContext& ctx, HandModel model, const SimParams& sim, const ObjectParams& object)
-      : Node(ctx.name, ctx.bus),
+      : Node(ctx),
         run_(ctx.run),
         view_gate_(ctx.run.view_rate_hz),
         sim_params_(sim),
@@ -63,6 +63,7 @@ class SimNode : public Node {
   // --- messages -----------------------------------------------------------------------------
   void PrepareMessages() {
     const auto names = model_.actuated_names();
+    sensors_msg_.run_id = run_id();
     joint_state_t& joints = sensors_msg_.joints;
     joints.num_joints = static_cast<int16_t>(names.size());
     joints.name = names;

@@ -183,6 +183,53 @@ class FaultsTest(unittest.TestCase):
         for node in ("dmpl_noise", "dmpl_controller", "dmpl_ik"):
             self.assertIn("is not a", (self.tmp / "attacked" / f"{node}.log").read_text(), node)
 
+    def test_a_run_ignores_another_runs_messages(self):
+        # Another run on the same URL (here forged from this run's own truth, with another
+        # run_id) sends the tick each node waits for next, before the real one, a command for the
+        # tick the simulator needs, and a PAUSE. Each is ignored and logged; the run gives the
+        # summary of a run alone, and its log holds none of them.
+        clean, _ = run_experiment(GAIT, self.tmp / "alone", echo=False, sets=["task.angle=1.0"])
+        result = {}
+        thread = threading.Thread(target=lambda: result.update(run_experiment(
+            GAIT, self.tmp / "shared", echo=False, sets=["task.angle=1.0"])[0]))
+        thread.start()
+        bus, sent = mp.Bus(), {"messages": 0}
+        other_run = 12345
+
+        def early(channel, data):
+            if sent["messages"] >= 300:
+                return
+            truth = hand_sensors_t.decode(data)
+            truth.run_id = other_run
+            for k in (1, 2):
+                truth.seq += 1
+                bus.buses.publish(channels.SENSORS, truth.encode())
+                bus.buses.publish(channels.SENSORS_TRUE, truth.encode())
+            cmd = joint_cmd_t()
+            cmd.run_id, cmd.seq = other_run, truth.seq - 2
+            cmd.num_joints, cmd.name = truth.joints.num_joints, truth.joints.name
+            cmd.position = [0.0] * truth.joints.num_joints
+            bus.buses.publish(channels.JOINT_CMD, cmd.encode())
+            sent["messages"] += 5
+        bus.subscribe(channels.SENSORS_TRUE, early)
+        pause = sim_control_t()
+        pause.run_id, pause.seq, pause.command, pause.reason = other_run, -1, \
+            sim_control_t.PAUSE, "another run's pause"
+        while thread.is_alive():
+            bus.spin(0.05)
+            if sent["messages"] >= 100:
+                bus.publish(channels.SIM_CONTROL, pause)
+        thread.join()
+        self.assertGreaterEqual(sent["messages"], 300)
+        self.assertEqual(result["status"], "success", result.get("problems"))
+        differ = {k: (clean.get(k), result.get(k)) for k in set(clean) | set(result)
+                  if k not in ("wall_time_s", "realtime_factor") and clean.get(k) != result.get(k)}
+        self.assertEqual(differ, {})
+        for node in ("dmpl_sim", "dmpl_noise", "dmpl_controller"):
+            self.assertIn("belongs to another run", (self.tmp / "shared" / f"{node}.log")
+                          .read_text(), node)
+        self.assertIn("of other runs", (self.tmp / "shared" / "recorder.log").read_text())
+
     def test_bad_files_and_values_are_one_clear_error(self):
         bad_urdf = self.tmp / "bad.urdf"
         text = (Path(mp.ROOT) / "configs/hand/dmpl_hand.urdf").read_text()

@@ -63,13 +63,16 @@ class LauncherNoiseTest(unittest.TestCase):
             first_pid = noise_info().pid
             pids.add(first_pid)
 
-            # Lockstep-style: publish truth k, wait for sensed k.
+            # Lockstep-style: publish truth k, wait for sensed k (while it waits, the node sends
+            # its last answers again: the same ones, kept once here).
             xs, forces = [], []
+
+            def sensed_by_seq():
+                return {m.seq: m for m in bus.received.get("DMPL_SENSORS", [])}
             for k in range(N):
                 bus.publish("DMPL_SENSORS_TRUE", truth(k))
-                bus.wait_for(lambda: len(bus.received.get("DMPL_SENSORS", [])) > k, 5,
-                             f"sensed seq {k}")
-                sensed = bus.received["DMPL_SENSORS"][k]
+                bus.wait_for(lambda: k in sensed_by_seq(), 5, f"sensed seq {k}")
+                sensed = sensed_by_seq()[k]
                 self.assertEqual(sensed.seq, k)
                 self.assertEqual(sensed.object.seq, k)
                 self.assertEqual(sensed.tactile.seq, k)
@@ -86,10 +89,8 @@ class LauncherNoiseTest(unittest.TestCase):
                          and noise_info().pid not in (0, first_pid), 20, "dmpl_noise respawned")
             pids.add(noise_info().pid)
             # It works again.
-            count = len(bus.received["DMPL_SENSORS"])
             bus.publish("DMPL_SENSORS_TRUE", truth(N))
-            bus.wait_for(lambda: len(bus.received["DMPL_SENSORS"]) > count, 5,
-                         "sensed tick after respawn")
+            bus.wait_for(lambda: N in sensed_by_seq(), 5, "sensed tick after respawn")
         finally:
             code = mp.stop(proc)
         self.assertEqual(code, 0, "a clean stop exits 0")

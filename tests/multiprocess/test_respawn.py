@@ -18,9 +18,9 @@ GAIT = mp.ROOT + "/configs/experiments/fig10_gait_sphere.yaml"
 
 
 class RespawnTest(unittest.TestCase):
-    def kill_mid_gait(self, victim, *sets):
+    def kill_mid_gait(self, victim, *sets, rejoins=True):
         """Runs the gait with --respawn, kills `victim` once the loop is 1.5 s into the run,
-        and returns the summary."""
+        and returns the summary (checked: a success with the restart listed, if it rejoins)."""
         out = Path(tempfile.mkdtemp(prefix="dmpl_respawn_"))
         self.addCleanup(subprocess.run, ["rm", "-rf", str(out)])
         run = subprocess.Popen(
@@ -41,6 +41,8 @@ class RespawnTest(unittest.TestCase):
         os.kill(state["pid"], signal.SIGKILL)
         output, _ = run.communicate(timeout=180)
         summary = json.loads((out / "summary.json").read_text())
+        if not rejoins:
+            return summary, state["tick"]
         self.assertEqual(summary["status"], "success", (summary.get("problems"), output[-3000:]))
         self.assertEqual([r["process"] for r in summary["restarts"]], [victim])
         # The launcher knows the tick from heartbeats (every 0.25 s of wall time).
@@ -56,6 +58,16 @@ class RespawnTest(unittest.TestCase):
 
     def test_lockstep_controller_rejoins(self):
         self.kill_mid_gait("dmpl_controller")
+
+    def test_a_dead_supervisor_fails_the_run_at_once(self):
+        # It holds the run's charts: it is not restarted, and the run ends within a second.
+        summary, killed_at_tick = self.kill_mid_gait("dmpl_supervisor", rejoins=False)
+        self.assertEqual(summary["status"], "failed")
+        self.assertIn("process failure: dmpl_supervisor", summary["problems"])
+        self.assertEqual(summary["restarts"], [])
+        # Lockstep runs ~2x real time here: a second of wall time is at most ~3 s simulated
+        # (the kill is seen by heartbeats up to 0.25 s late).
+        self.assertLess(summary["sim_time_s"], killed_at_tick * 1e-3 + 3.0)
 
     def test_real_time_ik_rejoins(self):
         self.kill_mid_gait("dmpl_ik", "run.lockstep=false")

@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
   }
   std::unique_ptr<dmpl::LogRecorder> recorder;
   if (!record.log_path.empty() || !record.columns_dir.empty()) {
+    record.run_id = ctx.run.run_id;
     try {
       recorder = std::make_unique<dmpl::LogRecorder>(&bus, record);
     } catch (const std::exception& e) {

@@ -6,7 +6,8 @@
 // and the exit code says whether every write succeeded.
 //
 // usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] [--policy P]
-//                    [--columns DIR [--fields REGEX]] [FILE]
+//                    [--columns DIR [--fields REGEX]] [--run-id N] [FILE]
+// --run-id N: messages of another run (a run_id neither N nor 0) are neither logged nor extracted.
 // Every bus of the URL is recorded (channels.h), unless --single-bus. --policy (full, analysis,
 // none; components/logging/record_policy.h) says what FILE keeps; --columns DIR extracts the
 // metrics' columns of every message online (components/logging/log_columns.h). With --policy
@@ -43,12 +44,20 @@ int main(int argc, char** argv) {
       options.columns_dir = argv[++i];
     } else if (arg == "--fields" && i + 1 < argc) {
       options.columns_fields = argv[++i];
+    } else if (arg == "--run-id" && i + 1 < argc) {
+      try {
+        options.run_id = std::stoll(argv[++i]);
+      } catch (const std::exception&) {
+        std::fprintf(stderr, "dmpl_record: --run-id: not an integer: '%s'\n", argv[i]);
+        return 2;
+      }
     } else if (arg == "--single-bus") {
       single_bus = true;
     } else if (arg == "-h" || arg == "--help") {
       std::printf(
           "usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] "
-          "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [FILE]\n");
+          "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [--run-id N] "
+          "[FILE]\n");
       return 0;
     } else if (arg.rfind("--", 0) == 0 || !options.log_path.empty()) {
       std::fprintf(stderr, "dmpl_record: unexpected argument '%s' (try --help)\n", arg.c_str());
@@ -109,10 +118,14 @@ int main(int argc, char** argv) {
     while (drain(20) > 0 && dmpl::MonotonicSeconds() < drain_until) {
     }
     recorder.Finish();
-    std::fprintf(stderr, "dmpl_record: %lld of %lld messages written to %s (policy %s)%s\n",
+    std::fprintf(stderr,
+                 "dmpl_record: %lld of %lld messages written to %s (policy %s)%s; copies sent "
+                 "again %lld, of other runs %lld (not recorded)\n",
                  static_cast<long long>(recorder.written()),
                  static_cast<long long>(recorder.received()), file.c_str(), policy.c_str(),
-                 recorder.failed() ? " (SOME WRITES FAILED)" : "");
+                 recorder.failed() ? " (SOME WRITES FAILED)" : "",
+                 static_cast<long long>(recorder.copies()),
+                 static_cast<long long>(recorder.foreign()));
     return recorder.failed() ? 1 : 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dmpl_record: %s\n", e.what());

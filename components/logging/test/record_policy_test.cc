@@ -5,6 +5,7 @@
 #include <cstring>
 #include <vector>
 
+#include "components/logging/message_layout.h"
 #include "components/runtime/channels.h"
 #include "dmpl/hand_sensors_t.hpp"
 
@@ -53,8 +54,19 @@ TEST(RecordPolicyTest, ParsesTheThreeNamesAndRejectsOthers) {
 
 TEST(RecordPolicyTest, SeqIsReadFromTheMessageBytes) {
   const auto m = Message(123456789);
-  EXPECT_EQ(SeqOfMessage(m.data(), m.size()), 123456789);
-  EXPECT_EQ(SeqOfMessage(m.data(), 23), -1);
+  EXPECT_EQ(SeqOf(m.data(), m.size()), 123456789);
+  EXPECT_EQ(SeqOf(m.data(), 23), -1);
+  EXPECT_EQ(RunIdOf(m.data(), m.size()), 0);  // a type without a run
+  // A type of the loop carries its run first, then utime and seq.
+  hand_sensors_t s{};
+  s.run_id = 77;
+  s.seq = 4242;
+  std::vector<uint8_t> bytes(static_cast<size_t>(s.getEncodedSize()));
+  s.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  EXPECT_TRUE(CarriesRunId(bytes.data(), bytes.size()));
+  EXPECT_EQ(RunIdOf(bytes.data(), bytes.size()), 77);
+  EXPECT_EQ(SeqOf(bytes.data(), bytes.size()), 4242);
+  EXPECT_EQ(HeaderSize(bytes.data(), bytes.size()), 32u);
 }
 
 TEST(RecordPolicyTest, FullKeepsEverythingAndNoneNothing) {

@@ -147,7 +147,8 @@ def check_processes(config_path, config, sets=()):
             if not lines:
                 raise ExperimentError(f"{exe} --check failed ({r.returncode})")
             if len(lines) == 1:
-                raise ExperimentError(f"{exe}: {lines[0]}{_from_set(lines[0], sets)}")
+                said = lines[0] if lines[0].startswith(f"{exe}:") else f"{exe}: {lines[0]}"
+                raise ExperimentError(said + _from_set(lines[0], sets))
             # What led to the verdict (a parser's messages), then the verdict, as it printed them.
             raise ExperimentError(f"{exe} refused the config:" + "".join(
                 f"\n  {line}" for line in lines) + _from_set(lines[-1], sets))

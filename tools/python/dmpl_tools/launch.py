@@ -250,10 +250,12 @@ class Launcher:
     """Runs a ProcessSet until it ends, a stop is requested, or a duration passes."""
 
     def __init__(self, pset, run_dir, lcm_url=None, record=None, echo=True, single_bus=False,
-                 record_policy=None, columns=None, check_url=True):
+                 record_policy=None, columns=None, check_url=True, run_id=None):
         """record: run the recorder (default: the set's `record`); record_policy: what its log
         keeps (default: the set's); columns: (DIR, FIELDS_REGEX) to extract online; check_url:
-        refuse a URL another run is heard on (refuse_if_in_use)."""
+        refuse a URL another run is heard on (refuse_if_in_use); run_id: the run's identity
+        (run.run_id), whose messages alone the recorder records."""
+        self.run_id = run_id
         self.pset = pset
         self.run_dir = Path(run_dir)
         self.run_dir.mkdir(parents=True, exist_ok=True)
@@ -417,6 +419,8 @@ class Launcher:
                 "--policy", self.record_policy, *(["--single-bus"] if self.single_bus else [])]
         if self.columns:
             args += ["--columns", str(self.columns[0]), "--fields", self.columns[1]]
+        if self.run_id:
+            args += ["--run-id", str(self.run_id)]
         if self.record_policy != "none":
             args.append(str(log_path))
         # Off the loop's CPUs when the set is pinned: it reads every message of every tick.

@@ -21,6 +21,14 @@ from .logdata import Columns, LogData, extract, fields_regex
 from .paths import BUILD, ROOT
 
 
+# The processes --respawn restarts: they rejoin the loop where they left it (the others send
+# them their last messages) and need nothing else from before: the noise injector, the IK, the
+# controller (its contacts from its first reading, its task from the supervisor) and the joint
+# player (a trajectory in time). The simulator and the supervisor hold the run's state: their
+# death ends the run.
+REJOINING = {"dmpl_noise", "dmpl_ik", "dmpl_controller", "dmpl_joint_player"}
+
+
 def loop_layout():
     """The CPUs a lockstep loop runs fastest on: with two CPUs or more, the simulator on the
     first and every other process on the last, so that physics steps while the nodes compute
@@ -42,13 +50,18 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
     the recorder then runs on the others.
     pins: {process name: CPUs} for single processes, over `cpus` and the config's own.
-    respawn: restart a process of the loop that dies (run.lockstep_participants: the noise
-    injector, the IK and the controller), as the config's run.respawn says when None."""
+    respawn: restart a process of the loop that dies (REJOINING), as the config's run.respawn
+    says when None."""
     config = experiment.resolve(config_path, params, sets, seed)
     if respawn is None:
         respawn = bool(config.get("run", {}).get("respawn", False))
     if respawn and one_process:
         raise experiment.ExperimentError("--respawn: one-process mode runs a single process")
+    # The run's identity: its processes ignore messages of any other run on the bus, and its
+    # recorder records none of them (a positive 62-bit number; 0 would mean none).
+    run = config.setdefault("run", {})
+    if not run.get("run_id"):
+        run["run_id"] = int.from_bytes(os.urandom(8), "big") >> 2
     policy = record_policy(config, record)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
@@ -87,11 +100,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     else:
         processes = _pinned(config["processes"], pins or {})
         if respawn:
-            # The loop's participants rejoin it where they left (the others resend to them);
-            # the simulator and the supervisor hold the run's state: their death ends it.
-            rejoin = set(config.get("run", {}).get(
-                "lockstep_participants", ["dmpl_noise", "dmpl_ik", "dmpl_controller"]))
-            processes = [dict(p, auto_respawn=True) if p.get("name") in rejoin else p
+            processes = [dict(p, auto_respawn=True) if p.get("exec") in REJOINING else p
                          for p in processes]
         set_data = {"name": name, "processes": processes}
     if cpus:
@@ -101,7 +110,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         launcher = Launcher(pset, out, lcm_url=url, echo=echo,
                             record=columns is not None and not one_process,
                             single_bus=not config.get("run", {}).get("channel_buses", True),
-                            record_policy=policy, columns=columns, check_url=False)
+                            record_policy=policy, columns=columns, check_url=False,
+                            run_id=run["run_id"])
     except OSError as e:
         raise experiment.ExperimentError(f"cannot write the run's logs in '{out}': "
                                          f"{e.strerror or e}") from None
