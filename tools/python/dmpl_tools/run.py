@@ -100,8 +100,9 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     else:
         processes = _pinned(config["processes"], pins or {})
         if respawn:
-            processes = [dict(p, auto_respawn=True) if p.get("exec") in REJOINING else p
-                         for p in processes]
+            # At once: in real time the hand goes on without it meanwhile.
+            processes = [dict(p, auto_respawn=True, respawn_delay_s=p.get("respawn_delay_s", 0.05))
+                         if p.get("exec") in REJOINING else p for p in processes]
         set_data = {"name": name, "processes": processes}
     if cpus:
         set_data["cpus"] = list(cpus)
