@@ -14,9 +14,9 @@
 #include <lcm/lcm-cpp.hpp>
 #include <spdlog/spdlog.h>
 
+#include "components/logging/decode.h"
 #include "components/runtime/clock.h"
 #include "components/runtime/config.h"
-#include "components/logging/decode.h"
 #include "components/runtime/lcm_bus.h"
 #include "components/runtime/resend.h"
 

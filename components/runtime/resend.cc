@@ -8,7 +8,8 @@ namespace {
 constexpr double kMaxBackoffS = 1.0;
 }  // namespace
 
-Resender::Resender(size_t depth, double stall_s) : depth_(std::max<size_t>(depth, 1)), stall_s_(stall_s) {}
+Resender::Resender(size_t depth, double stall_s)
+    : depth_(std::max<size_t>(depth, 1)), stall_s_(stall_s) {}
 
 void Resender::PublishBytes(lcm::LCM& lcm, const std::string& channel, std::vector<uint8_t> bytes,
                             double now) {

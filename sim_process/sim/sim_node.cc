@@ -2,9 +2,12 @@
 //
 // Lockstep (run.lockstep): once every process in run.lockstep_participants has sent a heartbeat,
 // publish the truth of tick 0; then for each tick k wait for the JOINT_CMD with seq k - d (d =
-// sim.command_delay_ticks; before tick d the initial targets hold), step, publish tick k+1. A
-// missing command is a fault reported with its seq, never a silent hold; after
-// run.max_tick_faults faults the simulator gives up (exit 4).
+// sim.command_delay_ticks; before tick d the initial targets hold), step, publish tick k+1.
+// While it waits it sends the truth of the last ticks again (run.resend_after_s: a message of the
+// loop may have been lost), and tick 1 waits for tick 0's answer. A command that stays missing
+// for run.tick_timeout_s is a fault reported with its seq, never a silent hold; after
+// run.max_tick_faults faults the simulator gives up (exit 4). A joint command may carry the
+// supervisor's request (release, stop), applied with it.
 // Real time: step on the wall clock (sim.realtime_rate), use the latest command that is due
 // (seq <= k - d), count late ones.
 #include <algorithm>
@@ -422,7 +425,7 @@ class SimNode : public Node {
     if (paused_) {
       const double paused_s = MonotonicSeconds() - paused_since_;
       set_status(heartbeat_t::RUNNING, "paused for " + std::to_string(paused_s) + " s");
-      if (std::fmod(paused_s, 30.0) < 2.0) {  // every half minute
+      if (paused_s > 2.0 && std::fmod(paused_s, 30.0) < 2.0) {  // every half minute
         log().warn("still paused at t = {:.3f} s ({:.0f} s): waiting for a RESUME", sim_.time(),
                    paused_s);
       }
