@@ -9,7 +9,9 @@ per case. Each trial runs in one-process mode (no sockets shared, nothing to col
 (tables), DIR/sweep.json (keys `trials`, `success_rate`, `cases`, and one summary per trial),
 DIR/sweep.parquet (one row per trial, for pandas and polars) and each trial's run directory
 (DIR/seedN, or DIR/CASE/seedN). Trials keep no log by default (--record none: their metrics are
-computed online); --record analysis or full keeps one per trial.
+computed online); --record analysis or full keeps one per trial. --resume skips the trials
+already finished in DIR; --cluster ADDRESS runs the trials on a Dask scheduler's workers, each
+trial a one-process run that returns its summary (docs/clusters.md).
 """
 import argparse
 import json
@@ -179,17 +181,86 @@ def write_parquet(path, trials):
     pq.write_table(pa.table(columns), path)
 
 
+def run_trial(spec):
+    """One trial, from a plain dict (it may travel to a Dask worker): its summary, with `case`
+    when the sweep has cases. With spec["resume"], a trial whose run directory already holds the
+    summary of the same config is not run again (its summary gets `resumed: true`)."""
+    run_dir = Path(spec["run_dir"])
+    if spec.get("resume"):
+        done = finished_trial(run_dir, spec)
+        if done is not None:
+            return done
+    summary, _ = run_experiment(spec["config"], run_dir, seed=spec["seed"], sets=spec["sets"],
+                                params=spec["params"], lcm_url=spec["url"], echo=False,
+                                one_process=spec["one_process"], record=spec["record"],
+                                cpus=spec.get("cpus"))
+    if spec["case"] is not None:
+        summary["case"] = spec["case"]
+    return summary
+
+
+def finished_trial(run_dir, spec):
+    """The summary of a trial already run in `run_dir` with the config this spec resolves to
+    (its run identity aside), else None: an interrupted, failed-to-write or different trial is
+    run again."""
+    try:
+        summary = json.loads((run_dir / "summary.json").read_text())
+        ran = experiment.load_yaml(run_dir / "config.yaml")
+    except (OSError, ValueError, experiment.ExperimentError):
+        return None
+    wanted = experiment.resolve(spec["config"], spec["params"], spec["sets"], spec["seed"])
+    for config in (ran, wanted):
+        config.get("run", {}).pop("run_id", None)
+        if config.get("run") == {}:
+            del config["run"]
+    if summary.get("status") == "interrupted" or ran != wanted:
+        return None
+    summary["resumed"] = True
+    if spec["case"] is not None:
+        summary["case"] = spec["case"]
+    return summary
+
+
 def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=True,
-              first_seed=1, port_base=7900, record="none", cases=None):
+              first_seed=1, port_base=7900, record="none", cases=None, resume=False,
+              cluster=None):
     """Runs every case (default: one, `config_path` with `sets`) with every seed; returns the
-    trials' summaries (each with its `case` when there are cases) and the success rate."""
+    trials' summaries (each with its `case` when there are cases) and the success rate.
+    resume: skip the trials whose run directory holds a finished one (finished_trial).
+    cluster: a Dask scheduler's address; its workers run the trials (one-process mode)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     named = cases is not None
     cases = cases or [Case(None, Path(config_path), [])]
     work = [(case, first_seed + i) for case in cases for i in range(seeds)]
-    lock = threading.Lock()
+    specs = [{"config": str(case.config), "seed": seed, "sets": [*case.sets, *sets],
+              "params": list(params), "record": record, "one_process": one_process,
+              "case": case.name if named else None, "resume": resume,
+              "run_dir": str(out / case.name / f"seed{seed}" if named else out / f"seed{seed}"),
+              "url": None if one_process else f"udpm://239.255.76.67:{port_base + i}?ttl=0"}
+             for i, (case, seed) in enumerate(work)]
     done = []
+
+    def report(summary):
+        done.append(summary)
+        rotation = summary.get("rotation_total_rad")
+        label = (f"{summary['case']} " if named else "") + f"seed {summary.get('seed')}"
+        print(f"[sweep] {label}: {summary['status']}{' (done before)' if summary.get('resumed') else ''}"
+              f", rotation {'-' if rotation is None else f'{rotation:.3f}'} rad, "
+              f"{len(done)}/{len(work)} done", file=sys.stderr, flush=True)
+
+    if cluster:
+        if not one_process:
+            raise experiment.ExperimentError("--cluster runs one-process trials only")
+        trials = _run_on_cluster(cluster, specs, report)
+    else:
+        trials = _run_here(specs, jobs, report)
+    rate = write_table(out, config_path, trials)
+    return trials, rate
+
+
+def _run_here(specs, jobs, report):
+    lock = threading.Lock()
     # With no more trials at a time than CPUs, each trial runs on a CPU of its own (a pinned
     # loop wakes its processes locally; see launch.py); otherwise the scheduler places them.
     available = sorted(os.sched_getaffinity(0))
@@ -198,42 +269,68 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
     for c in available:
         cpus.put(c)
 
-    def trial(index):
-        case, seed = work[index]
-        run_dir = out / case.name / f"seed{seed}" if named else out / f"seed{seed}"
-        url = None if one_process else f"udpm://239.255.76.67:{port_base + index}?ttl=0"
+    def trial(spec):
         cpu = cpus.get() if pinned else None
         try:
-            summary, _ = run_experiment(case.config, run_dir, seed=seed, sets=[*case.sets, *sets],
-                                        params=params, lcm_url=url, echo=False,
-                                        one_process=one_process, record=record,
-                                        cpus=None if cpu is None else [cpu])
+            summary = run_trial(dict(spec, cpus=None if cpu is None else [cpu]))
         finally:
             if cpu is not None:
                 cpus.put(cpu)
-        if named:
-            summary["case"] = case.name
         with lock:
-            done.append(seed)
-            rotation = summary.get("rotation_total_rad")
-            label = f"{case.name} seed {seed}" if named else f"seed {seed}"
-            print(f"[sweep] {label}: {summary['status']}, rotation "
-                  f"{'-' if rotation is None else f'{rotation:.3f}'} rad, "
-                  f"{len(done)}/{len(work)} done", file=sys.stderr, flush=True)
+            report(summary)
         return summary
 
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        futures = [pool.submit(trial, i) for i in range(len(work))]
+        futures = [pool.submit(trial, spec) for spec in specs]
         try:
-            trials = [f.result() for f in futures]
+            return [f.result() for f in futures]
         except KeyboardInterrupt:
             for f in futures:
                 f.cancel()
             for launcher in list(ACTIVE):
                 launcher.request_stop("sweep interrupted")
             raise
-    rate = write_table(out, config_path, trials)
-    return trials, rate
+
+
+def _worker_has_project(root, build):
+    """Run on each worker: what it lacks of the project at these paths ("" when nothing)."""
+    import os.path
+    missing = [p for p in (os.path.join(root, "configs"),
+                           os.path.join(build, "bin", "dmpl_oneprocess")) if not os.path.exists(p)]
+    return ", ".join(missing)
+
+
+def _run_on_cluster(address, specs, report):
+    """Submits the trials to the Dask scheduler at `address`; its workers need the project at
+    the same paths (a shared file system): checked first, with one clear error."""
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise experiment.ExperimentError("--cluster needs dask.distributed (tools/dmpl installs "
+                                         "it in the project's venv)") from None
+    from .paths import BUILD
+    try:
+        client = Client(address, timeout=20)
+    except (OSError, TimeoutError) as e:
+        raise experiment.ExperimentError(f"--cluster {address}: no Dask scheduler there ({e})") \
+            from None
+    with client:
+        lacking = {w: m for w, m in client.run(_worker_has_project, str(ROOT), str(BUILD)).items()
+                   if m}
+        if not client.scheduler_info().get("workers"):
+            raise experiment.ExperimentError(f"--cluster {address}: the scheduler has no workers")
+        if lacking:
+            raise experiment.ExperimentError(
+                f"--cluster {address}: workers without the project (built at {BUILD}): " +
+                "; ".join(f"{w} lacks {m}" for w, m in sorted(lacking.items())))
+        futures = [client.submit(run_trial, spec, pure=False) for spec in specs]
+        order = {f.key: i for i, f in enumerate(futures)}
+        trials = [None] * len(futures)
+        for future in as_completed(futures):
+            summary = future.result()
+            trials[order[future.key]] = summary
+            report(summary)
+        return trials
 
 
 def main(argv=None):
@@ -250,6 +347,11 @@ def main(argv=None):
                     help="what each trial's log keeps (default none: metrics are online)")
     ap.add_argument("--multiprocess", action="store_true",
                     help="full process sets on their own LCM ports instead of one-process mode")
+    ap.add_argument("--resume", action="store_true",
+                    help="skip the trials already finished in --out (same config and seed)")
+    ap.add_argument("--cluster", metavar="ADDRESS",
+                    help="run the trials on the workers of this Dask scheduler "
+                    "(tcp://HOST:8786; docs/clusters.md)")
     args = ap.parse_args(argv)
     if args.seed is not None:
         ap.error("--seed does not apply to a sweep; use --first-seed")
@@ -268,7 +370,7 @@ def main(argv=None):
     try:
         trials, rate = run_sweep(title, args.seeds, args.jobs, out, args.set, args.params,
                                  not args.multiprocess, args.first_seed, record=args.record,
-                                 cases=cases)
+                                 cases=cases, resume=args.resume, cluster=args.cluster)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl sweep: error: {e}", file=sys.stderr)
         return 2
