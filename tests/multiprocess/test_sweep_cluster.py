@@ -2,8 +2,10 @@
 scheduler (here a LocalCluster of two worker processes, as `dask-scheduler` and `dask-worker`
 would run on a lab's machines) give the results of the same sweep run here, and an interrupted
 sweep resumes, skipping the trials it finished."""
+import json
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -11,6 +13,7 @@ from pathlib import Path
 
 import mp
 from dmpl_tools.sweep import _worker_has_project, run_sweep
+from dmpl_tools.sweep import main as sweep_main
 
 EXP = mp.ROOT + "/configs/experiments/fig8_sphere.yaml"
 # What differs between two runs of one trial: the machine's time, and whether it was resumed.
@@ -49,6 +52,25 @@ class SweepClusterTest(unittest.TestCase):
         shifted, _ = run_sweep(EXP, 1, 1, self.tmp / "cluster", first_seed=1, resume=True,
                                sets=["noise.object_position_sigma=0.001"])
         self.assertNotIn("resumed", shifted[0])
+
+    def test_a_slurm_array_sweep_gives_the_local_results(self):
+        # The script sbatch would run, run here once per array task; --collect gathers.
+        out, script = self.tmp / "slurm", self.tmp / "sweep.sbatch"
+        self.assertEqual(sweep_main([EXP, "--seeds", "2", "--out", str(out),
+                                     "--slurm-script", str(script)]), 0)
+        text = script.read_text()
+        self.assertIn("#SBATCH --array=0-1", text)
+        subprocess.run(["bash", "-n", str(script)], check=True)
+        for task in ("0", "1"):
+            subprocess.run(["bash", str(script)], check=True, capture_output=True,
+                           env=dict(os.environ, SLURM_ARRAY_TASK_ID=task))
+        self.assertEqual(sweep_main(["--collect", str(out)]), 0)
+        collected = json.loads((out / "sweep.json").read_text())["summaries"]
+        local, _ = run_sweep(EXP, 2, 2, self.tmp / "local_for_slurm")
+        self.assertEqual([results(s) for s in collected], [results(s) for s in local])
+        # A task that has not run yet is reported, not silently dropped.
+        shutil.rmtree(out / "seed2")
+        self.assertEqual(sweep_main(["--collect", str(out)]), 1)
 
     def test_a_worker_without_the_project_is_named(self):
         self.assertEqual(_worker_has_project(mp.ROOT, os.environ["DMPL_BUILD_DIR"]), "")

@@ -221,6 +221,82 @@ def finished_trial(run_dir, spec):
     return summary
 
 
+def trial_specs(config_path, seeds, out, sets=(), params=(), one_process=True, first_seed=1,
+                port_base=7900, record="none", cases=None, resume=False):
+    """Every trial of a sweep as a plain dict run_trial takes: every case times every seed."""
+    named = cases is not None
+    cases = cases or [Case(None, Path(config_path), [])]
+    work = [(case, first_seed + i) for case in cases for i in range(seeds)]
+    return [{"config": str(Path(case.config).resolve()), "seed": seed,
+             "sets": [*case.sets, *sets], "params": [str(Path(p).resolve()) for p in params],
+             "record": record, "one_process": one_process,
+             "case": case.name if named else None, "resume": resume,
+             "run_dir": str(out / case.name / f"seed{seed}" if named else out / f"seed{seed}"),
+             "url": None if one_process else f"udpm://239.255.76.67:{port_base + i}?ttl=0"}
+            for i, (case, seed) in enumerate(work)]
+
+
+TRIALS_FILE = "trials.json"
+SLURM_SCRIPT = """#!/bin/bash
+# Written by tools/dmpl sweep --slurm-script: {n} trials of {title}, one per array task.
+# Every node needs the project at {root}, built (a shared file system); the trials write to
+# {out}. Submit: sbatch {script}. Gather: tools/dmpl sweep --collect {out}
+#SBATCH --job-name=dmpl-sweep
+#SBATCH --array=0-{last}
+#SBATCH --cpus-per-task=1
+#SBATCH --output={out}/slurm-%A_%a.out
+set -euo pipefail
+cd {root}
+export PYTHONPATH={build}/python:{root}/tools/python DMPL_BUILD_DIR={build}
+exec {python} -m dmpl_tools.sweep --run-trial {out}/{trials} "$SLURM_ARRAY_TASK_ID"
+"""
+
+
+def write_slurm_script(path, title, out, specs):
+    """Writes OUT/trials.json and an `sbatch --array` script that runs trial i in array task i;
+    `--collect OUT` gathers their summaries into the sweep's tables."""
+    from .paths import BUILD
+    out = Path(out).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    (out / TRIALS_FILE).write_text(json.dumps({"title": str(title), "trials": specs}, indent=1))
+    Path(path).write_text(SLURM_SCRIPT.format(
+        n=len(specs), title=title, root=ROOT, out=out, script=path, last=len(specs) - 1,
+        build=BUILD, python=ROOT / ".venv" / "bin" / "python", trials=TRIALS_FILE))
+    os.chmod(path, 0o755)
+
+
+def run_listed_trial(trials_file, index):
+    """Array task `index` of a --slurm-script sweep (resumable: a finished trial is kept)."""
+    specs = json.loads(Path(trials_file).read_text())["trials"]
+    if not 0 <= index < len(specs):
+        raise experiment.ExperimentError(f"{trials_file}: no trial {index} (it has {len(specs)})")
+    summary = run_trial(dict(specs[index], resume=True))
+    print(f"[sweep] trial {index}: {summary['status']}", file=sys.stderr)
+    return summary
+
+
+def collect(out):
+    """The sweep's tables from the summaries its trials wrote (--slurm-script); returns
+    (trials, rate, missing run directories)."""
+    out = Path(out)
+    try:
+        listed = json.loads((out / TRIALS_FILE).read_text())
+    except (OSError, ValueError) as e:
+        raise experiment.ExperimentError(f"--collect {out}: no readable {TRIALS_FILE} ({e}); "
+                                         "it is written by --slurm-script") from None
+    trials, missing = [], []
+    for spec in listed["trials"]:
+        try:
+            summary = json.loads((Path(spec["run_dir"]) / "summary.json").read_text())
+        except (OSError, ValueError):
+            missing.append(spec["run_dir"])
+            summary = {"status": "missing", "seed": spec["seed"]}
+        if spec["case"] is not None:
+            summary["case"] = spec["case"]
+        trials.append(summary)
+    return trials, write_table(out, listed["title"], trials), missing
+
+
 def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=True,
               first_seed=1, port_base=7900, record="none", cases=None, resume=False,
               cluster=None):
@@ -230,15 +306,9 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
     cluster: a Dask scheduler's address; its workers run the trials (one-process mode)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    specs = trial_specs(config_path, seeds, out, sets, params, one_process, first_seed,
+                        port_base, record, cases, resume)
     named = cases is not None
-    cases = cases or [Case(None, Path(config_path), [])]
-    work = [(case, first_seed + i) for case in cases for i in range(seeds)]
-    specs = [{"config": str(case.config), "seed": seed, "sets": [*case.sets, *sets],
-              "params": list(params), "record": record, "one_process": one_process,
-              "case": case.name if named else None, "resume": resume,
-              "run_dir": str(out / case.name / f"seed{seed}" if named else out / f"seed{seed}"),
-              "url": None if one_process else f"udpm://239.255.76.67:{port_base + i}?ttl=0"}
-             for i, (case, seed) in enumerate(work)]
     done = []
 
     def report(summary):
@@ -247,7 +317,7 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
         label = (f"{summary['case']} " if named else "") + f"seed {summary.get('seed')}"
         print(f"[sweep] {label}: {summary['status']}{' (done before)' if summary.get('resumed') else ''}"
               f", rotation {'-' if rotation is None else f'{rotation:.3f}'} rad, "
-              f"{len(done)}/{len(work)} done", file=sys.stderr, flush=True)
+              f"{len(done)}/{len(specs)} done", file=sys.stderr, flush=True)
 
     if cluster:
         if not one_process:
@@ -339,7 +409,7 @@ def main(argv=None):
     add_common_args(ap, config_optional=True)
     ap.add_argument("--cases", metavar="FILE",
                     help="a base experiment and named cases (configs/benchmarks/*.yaml)")
-    ap.add_argument("--seeds", type=int, required=True, help="number of trials (per case)")
+    ap.add_argument("--seeds", type=int, help="number of trials (per case)")
     ap.add_argument("--first-seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2, help="trials at a time (default 2)")
     ap.add_argument("--out", help="output directory (default out/sweeps/NAME-TIME)")
@@ -352,7 +422,31 @@ def main(argv=None):
     ap.add_argument("--cluster", metavar="ADDRESS",
                     help="run the trials on the workers of this Dask scheduler "
                     "(tcp://HOST:8786; docs/clusters.md)")
+    ap.add_argument("--slurm-script", metavar="FILE",
+                    help="write an `sbatch --array` script (one trial per task) instead of "
+                    "running; gather with --collect OUT")
+    ap.add_argument("--collect", metavar="DIR",
+                    help="the tables of a --slurm-script sweep from its trials' summaries")
+    ap.add_argument("--run-trial", nargs=2, metavar=("TRIALS", "INDEX"),
+                    help=argparse.SUPPRESS)  # what a --slurm-script array task runs
     args = ap.parse_args(argv)
+    try:
+        if args.run_trial:
+            summary = run_listed_trial(args.run_trial[0], int(args.run_trial[1]))
+            return 0 if summary["status"] == "success" else 1
+        if args.collect:
+            trials, rate, missing = collect(args.collect)
+            print((Path(args.collect) / "sweep.md").read_text())
+            if missing:
+                print(f"dmpl sweep: {len(missing)} of {len(trials)} trials have no summary yet "
+                      f"(first: {missing[0]})", file=sys.stderr)
+                return 1
+            return 0 if rate == 1.0 else 1
+    except (experiment.ExperimentError, ValueError) as e:
+        print(f"dmpl sweep: error: {e}", file=sys.stderr)
+        return 2
+    if args.seeds is None:
+        ap.error("--seeds is required")
     if args.seed is not None:
         ap.error("--seed does not apply to a sweep; use --first-seed")
     if args.seeds < 1 or args.jobs < 1:
@@ -367,6 +461,15 @@ def main(argv=None):
     title = args.cases or args.config
     name = Path(title).stem
     out = Path(args.out) if args.out else ROOT / "out" / "sweeps" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    if args.slurm_script:
+        if args.multiprocess or args.cluster:
+            ap.error("--slurm-script writes one-process trials; no --multiprocess, --cluster")
+        write_slurm_script(args.slurm_script, title, out, trial_specs(
+            title, args.seeds, out.resolve(), args.set, args.params, True, args.first_seed,
+            record=args.record, cases=cases))
+        print(f"sweep: {args.slurm_script} runs {args.seeds} seeds{' per case' if cases else ''} "
+              f"as an array job (sbatch {args.slurm_script}); then tools/dmpl sweep --collect {out}")
+        return 0
     try:
         trials, rate = run_sweep(title, args.seeds, args.jobs, out, args.set, args.params,
                                  not args.multiprocess, args.first_seed, record=args.record,
