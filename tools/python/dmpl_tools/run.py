@@ -41,7 +41,7 @@ def loop_layout():
 
 def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm_url=None,
                    echo=True, progress=None, one_process=False, record=None, cpus=None,
-                   pins=None, respawn=None):
+                   pins=None, respawn=None, only=None):
     """Runs one experiment and returns its summary (also written to OUT/summary.json).
 
     record: what the log keeps, full | analysis | none (default: the config's run.record);
@@ -51,7 +51,9 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     the recorder then runs on the others.
     pins: {process name: CPUs} for single processes, over `cpus` and the config's own.
     respawn: restart a process of the loop that dies (REJOINING), as the config's run.respawn
-    says when None."""
+    says when None.
+    only: launch only these processes of the set (the others run elsewhere, e.g. on another
+    host: README, "Across two machines")."""
     config = experiment.resolve(config_path, params, sets, seed)
     if respawn is None:
         respawn = bool(config.get("run", {}).get("respawn", False))
@@ -98,7 +100,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
                       "exit_ends_set": True}]
         set_data = {"name": name, "processes": processes, "record": False}
     else:
-        processes = _pinned(config["processes"], pins or {})
+        processes = _pinned(_only(config["processes"], only), pins or {})
         if respawn:
             # At once: in real time the hand goes on without it meanwhile.
             processes = [dict(p, auto_respawn=True, respawn_delay_s=p.get("respawn_delay_s", 0.05))
@@ -240,6 +242,18 @@ def write_summary(path, summary):
         raise
 
 
+def _only(processes, names):
+    """The processes named in `names` (all of them when None); an unknown name is an error."""
+    if names is None:
+        return processes
+    known = [p.get("name") for p in processes]
+    for name in names:
+        if name not in known:
+            raise SetError(f"--only {name}: the experiment has no such process (it has "
+                           f"{', '.join(map(str, known))})")
+    return [p for p in processes if p.get("name") in names]
+
+
 def _pinned(processes, pins):
     """The config's processes with `pins` applied; a name the set does not have is an error."""
     names = [p.get("name") for p in processes]
@@ -314,6 +328,9 @@ def main(argv=None):
     ap.add_argument("--respawn", action="store_true", default=None,
                     help="restart a process of the loop that dies (noise, IK, controller; "
                     "run.respawn); the summary lists the restarts")
+    ap.add_argument("--only", type=lambda t: [n for n in t.split(",") if n], metavar="NAMES",
+                    help="launch only these processes (comma-separated); the others run "
+                    "elsewhere, e.g. on another machine")
     ap.add_argument("--loop-layout", action="store_true",
                     help="the fastest layout of a lockstep loop on two CPUs: --cpus -1 "
                     "--pin dmpl_sim=0 (what demo and bench use)")
@@ -322,14 +339,16 @@ def main(argv=None):
     if args.loop_layout and not args.one_process:
         layout_cpus, layout_pins = loop_layout()
         cpus, pins = cpus or layout_cpus, {**layout_pins, **pins}
-    if args.one_process and pins:
-        print("dmpl run: error: --pin: one-process mode runs a single process", file=sys.stderr)
+    if args.one_process and (pins or args.only):
+        print("dmpl run: error: --pin, --only: one-process mode runs a single process",
+              file=sys.stderr)
         return 2
     try:
         summary, out = run_experiment(args.config, args.out, args.seed, args.set, args.params,
                                       args.lcm_url, echo=not args.quiet,
                                       one_process=args.one_process, cpus=cpus, pins=pins,
-                                      record=args.record, respawn=args.respawn)
+                                      record=args.record, respawn=args.respawn,
+                                      only=args.only)
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2
