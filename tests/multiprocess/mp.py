@@ -1,6 +1,8 @@
 """Helpers for multi-process tests: LCM on the test's own URL (each channel on its bus),
 waiting for messages, processes."""
+import atexit
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -11,6 +13,12 @@ from dmpl_tools.bus import Buses
 
 URL = os.environ.get("LCM_DEFAULT_URL", "udpm://239.255.76.67:7667?ttl=0")
 ROOT = os.environ.get("DMPL_ROOT", os.getcwd())
+
+# Whatever a test and the processes it starts put in temporary files and directories (run
+# directories with logs of several MB, a browser's profile) goes under one directory of its
+# own, removed when the test process ends.
+tempfile.tempdir = os.environ["TMPDIR"] = tempfile.mkdtemp(prefix="dmpl_test_")
+atexit.register(shutil.rmtree, tempfile.tempdir, ignore_errors=True)
 
 
 def pid_alive(pid):
