@@ -13,6 +13,7 @@
 #include "components/kinematics/hand_kinematics.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
+#include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
 #include "components/runtime/node_factories.h"
 #include "dmpl/controller_status_t.hpp"
@@ -64,12 +65,12 @@ class SupervisorNode : public Node {
   void OnReport(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
     if (answered_any_ && m->seq <= last_seq_) return;  // a copy of a report already answered
     std::string why = OutOfRange(*m);
-    if (answered_any_ && m->seq > last_seq_ + kMaxAhead) {
+    if (answered_any_ && m->seq > last_seq_ + kMaxTicksAhead) {
       why = "tick far ahead of " + std::to_string(last_seq_) + " (forged, or another run's)";
     }
     if (!why.empty()) {
       ++rejected_;
-      if (rejected_ <= 5 || rejected_ % 1000 == 0) {
+      if (LogThisOccurrence(rejected_)) {
         log().warn("report {} rejected: {} ({} so far)", m->seq, why, rejected_);
       }
       return;
@@ -229,7 +230,6 @@ class SupervisorNode : public Node {
   int64_t last_seq_ = 0;
   bool answered_any_ = false;
   int64_t rejected_ = 0;
-  static constexpr int64_t kMaxAhead = 1000;  // ticks
   int64_t last_utime_ = 0;
 };
 

@@ -113,9 +113,11 @@ class ControllerNode : public Node {
   // Lockstep: a seq far past the loop's tick is forged or another run's; adopting it would
   // push the real ticks out of the queues (or, for a task, answer ticks not yet asked).
   bool FarAhead(const char* what, int64_t seq) {
-    if (!lockstep_ || gate_.last_tick() < 0 || seq <= gate_.last_tick() + kMaxAhead) return false;
+    if (!lockstep_ || gate_.last_tick() < 0 || seq <= gate_.last_tick() + kMaxTicksAhead) {
+      return false;
+    }
     ++rejected_;
-    if (rejected_ <= 5 || rejected_ % 1000 == 0) {
+    if (LogThisOccurrence(rejected_)) {
       log().warn("{} for tick {}, far ahead of tick {}: not adopted ({} rejected so far)", what,
                  seq, gate_.last_tick(), rejected_);
     }
@@ -228,7 +230,7 @@ class ControllerNode : public Node {
       status_.events.push_back(ev);
       if (e.type == EventType::kInputRejected) {
         ++rejected_;
-        if (rejected_ <= 5 || rejected_ % 1000 == 0) {  // a flood of bad input floods no log
+        if (LogThisOccurrence(rejected_)) {
           log().warn("tick {}: {} ({} rejected so far)", tick, e.text, rejected_);
         }
         set_status(heartbeat_t::RUNNING, e.text);
@@ -267,7 +269,6 @@ class ControllerNode : public Node {
   std::map<int64_t, ArrivedTask> tasks_;  // by seq
   int64_t forwarded_task_seq_ = std::numeric_limits<int64_t>::min();
   int64_t rejected_ = 0;  // sensed inputs rejected (NaN, out of range, far ahead)
-  static constexpr int64_t kMaxAhead = 1000;  // ticks; as InOrder's
   int32_t last_task_id_ = -1;
   finger_targets_t targets_{};
   controller_status_t status_{};

@@ -82,7 +82,7 @@ class IkNode : public Node {
 
   void Reject(const std::string& why) {
     ++rejected_;
-    if (rejected_ <= 5 || rejected_ % 1000 == 0) log().warn("rejected input: {} ({} so far)", why, rejected_);
+    if (LogThisOccurrence(rejected_)) log().warn("rejected input: {} ({} so far)", why, rejected_);
     set_status(heartbeat_t::RUNNING, "rejected " + std::to_string(rejected_) + ": " + why);
   }
 

@@ -51,14 +51,18 @@ class LockstepGate {
   int64_t stale_ = 0;
 };
 
+// How far past the loop's tick a seq may be and still be adopted; beyond, it is forged or
+// another run's, and adopting it would push the real ticks out of a node's queues.
+inline constexpr int64_t kMaxTicksAhead = 1000;
+
 // One stream delivered in seq order, for a node whose computation has state (lockstep): a
 // message ahead of the next one waits until the ones before it arrive (sent again after a loss);
 // copies of delivered messages are dropped. The stream starts at the first seq seen; a seq more
-// than `max_ahead` past the next is refused (a forged or foreign one must not be adopted).
+// than `max_ahead` past the next is refused (kMaxTicksAhead).
 template <typename T>
 class InOrder {
  public:
-  explicit InOrder(int64_t max_ahead = 1000) : max_ahead_(max_ahead) {}
+  explicit InOrder(int64_t max_ahead = kMaxTicksAhead) : max_ahead_(max_ahead) {}
 
   enum class Verdict { kAccepted, kDuplicate, kTooFarAhead };
   // Records `item`; the items now deliverable, oldest first, go to `ready`.

@@ -55,7 +55,7 @@ Node::Node(const NodeContext& ctx) : Node(ctx.name, ctx.bus) { run_id_ = ctx.run
 
 void Node::CountForeign(const std::string& channel, int64_t run_id) {
   ++foreign_;
-  if (foreign_ <= 5 || foreign_ % 1000 == 0) {
+  if (LogThisOccurrence(foreign_)) {
     log().warn("a message on {} belongs to another run ({:x}, this is {:x}); {} so far, ignored",
                channel, run_id, run_id_, foreign_);
   }
@@ -63,7 +63,7 @@ void Node::CountForeign(const std::string& channel, int64_t run_id) {
 
 void Node::CountUndecodable(const std::string& channel, const char* type, uint32_t size) {
   ++undecodable_;
-  if (undecodable_ <= 5 || undecodable_ % 1000 == 0) {
+  if (LogThisOccurrence(undecodable_)) {
     log().warn("a message on {} is not a {} ({} bytes); {} so far, ignored", channel, type, size,
                undecodable_);
   }

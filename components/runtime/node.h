@@ -24,6 +24,10 @@ namespace dmpl {
 
 struct NodeContext;
 
+// Whether the `count`-th occurrence of a repeated problem is logged: the first five, then every
+// thousandth (a flood of bad input floods no log).
+inline bool LogThisOccurrence(int64_t count) { return count <= 5 || count % 1000 == 0; }
+
 // Whether a message type carries the run it belongs to (run_id).
 template <typename Msg, typename = void>
 struct HasRunId : std::false_type {};

@@ -257,7 +257,7 @@ class SimNode : public Node {
     if (!ok) {
       ++rejected_;
       last_fault_ = "rejected command seq " + std::to_string(cmd.seq) + ": " + why;
-      if (rejected_ <= 5 || rejected_ % 1000 == 0) {
+      if (LogThisOccurrence(rejected_)) {
         log().warn("{} (rejected so far: {})", last_fault_, rejected_);
       }
       PublishStatus();

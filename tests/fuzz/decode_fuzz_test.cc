@@ -62,34 +62,33 @@ joint_cmd_t Command() {
   return m;
 }
 
-finger_targets_t Targets() {
-  finger_targets_t m{};
-  m.seq = 42;
+// A message with one entry per finger, each named (finger targets, task, report).
+template <typename Msg>
+Msg PerFinger(int64_t seq) {
+  Msg m{};
+  m.seq = seq;
   m.num_fingers = static_cast<int8_t>(kFingers.size());
   m.fingers.resize(kFingers.size());
   for (size_t f = 0; f < kFingers.size(); ++f) m.fingers[f].finger = kFingers[f];
+  return m;
+}
+
+finger_targets_t Targets() {
+  auto m = PerFinger<finger_targets_t>(42);
   m.num_joints = 16;
   m.joint_position.assign(16, 0.3);
   return m;
 }
 
 task_cmd_t Task() {
-  task_cmd_t m{};
-  m.seq = 42;
+  auto m = PerFinger<task_cmd_t>(42);
   m.name = "A4 R explore";
-  m.num_fingers = static_cast<int8_t>(kFingers.size());
-  m.fingers.resize(kFingers.size());
-  for (size_t f = 0; f < kFingers.size(); ++f) m.fingers[f].finger = kFingers[f];
   m.sim_command_reason = "grasp stable";
   return m;
 }
 
 controller_status_t Report() {
-  controller_status_t m{};
-  m.seq = 40;
-  m.num_fingers = static_cast<int8_t>(kFingers.size());
-  m.fingers.resize(kFingers.size());
-  for (size_t f = 0; f < kFingers.size(); ++f) m.fingers[f].finger = kFingers[f];
+  auto m = PerFinger<controller_status_t>(40);
   m.events.resize(2);
   m.events[0].text = "R touches";
   m.num_events = 2;
