@@ -2,6 +2,7 @@
 #include <array>
 
 #include "components/controller/grip_adapter.h"
+#include "components/controller/load_estimator.h"
 #include "components/runtime/params.h"
 
 namespace dmpl {
@@ -44,6 +45,7 @@ struct ControllerParams {
   double explore_force_n = 0.1;          // exploration finger (the paper's 0.1 N)
   double role_change_s = 0.3;            // a finger's desired force ramps to its new role's
   GripAdaptationParams grip_adaptation;  // the grip raised for the explorer's share and on slip
+  LoadParams load;                       // the load the grip learns to carry (load_estimator.h)
   ForceGains force;                      // grip fingers (composite)
   ForceGains explore_force{0.002, 0.15, 0.015};  // exploration (hybrid): a light touch must
                                                  // follow the object's small motions closely
@@ -96,6 +98,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(explore_force_n));
     a->Visit(DMPL_NVP(role_change_s));
     a->Visit(DMPL_NVP(grip_adaptation));
+    a->Visit(DMPL_NVP(load));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));

@@ -1,6 +1,8 @@
 #include "components/controller/force_planner.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -114,6 +116,103 @@ ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
   f += alpha * d;
   for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), f[k]};
   plan.balanced = true;
+  return plan;
+}
+
+std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vector3d>& contacts,
+                                                   const std::vector<Eigen::Vector3d>& normals,
+                                                   const std::vector<bool>& grip,
+                                                   const Eigen::Vector3d& fallback) {
+  DMPL_DEMAND(contacts.size() == grip.size() && normals.size() == grip.size());
+  // Minimises sum |(I - n n^T)(p - c)|^2 + eps |p - fallback|^2: the small pull toward the
+  // fallback only decides the directions the lines leave free.
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  int lines = 0;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    if (!grip[i] || !(normals[i].norm() > 0.5)) continue;
+    const Eigen::Vector3d n = normals[i].normalized();
+    const Eigen::Matrix3d off = Eigen::Matrix3d::Identity() - n * n.transpose();
+    a += off;
+    b += off * contacts[i];
+    ++lines;
+  }
+  if (lines < 2) return std::nullopt;
+  constexpr double kPull = 1e-3;
+  a += kPull * Eigen::Matrix3d::Identity();
+  b += kPull * fallback;
+  return Eigen::Vector3d(a.ldlt().solve(b));
+}
+
+ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
+                            const std::vector<bool>& grip, const Eigen::Vector3d& aim,
+                            double nominal_n, double minimum_n, double maximum_n,
+                            const Eigen::Vector3d& net) {
+  DMPL_DEMAND(contacts.size() == grip.size());
+  DMPL_DEMAND(minimum_n <= nominal_n && nominal_n <= maximum_n);
+  ForcePlan plan;
+  plan.forces.resize(contacts.size());
+  plan.centroid = aim;
+  std::vector<int> idx;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    if (grip[i] && (aim - contacts[i]).norm() > 1e-9) idx.push_back(static_cast<int>(i));
+  }
+  const int n = static_cast<int>(idx.size());
+  if (n == 0) return plan;
+  DMPL_DEMAND(n <= 6);  // 3^n active sets
+  Eigen::Matrix3Xd u(3, n);
+  for (int k = 0; k < n; ++k) u.col(k) = (aim - contacts[idx[k]]).normalized();
+  // min w |U f - net|^2 + |f - nominal|^2 over the box: the balance weighs much more than the
+  // squeeze's evenness. Every assignment of each force to {free, minimum, maximum}; the best
+  // one whose free forces lie in the box is the optimum (the problem is convex).
+  constexpr double kBalanceWeight = 1e4;
+  const double sw = std::sqrt(kBalanceWeight);
+  Eigen::VectorXd best(n);
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<int> state(n, 0);  // 0 free, 1 at the minimum, 2 at the maximum
+  for (;;) {
+    Eigen::VectorXd f(n);
+    std::vector<int> free;
+    Eigen::Vector3d rhs = net;
+    for (int k = 0; k < n; ++k) {
+      if (state[k] == 0) {
+        free.push_back(k);
+        continue;
+      }
+      f[k] = state[k] == 1 ? minimum_n : maximum_n;
+      rhs -= f[k] * u.col(k);
+    }
+    bool inside = true;
+    if (!free.empty()) {
+      const int m = static_cast<int>(free.size());
+      Eigen::MatrixXd a(3 + m, m);
+      Eigen::VectorXd b(3 + m);
+      a.setZero();
+      for (int j = 0; j < m; ++j) a.block<3, 1>(0, j) = sw * u.col(free[j]);
+      a.bottomRows(m).setIdentity();
+      b.head<3>() = sw * rhs;
+      b.tail(m).setConstant(nominal_n);
+      const Eigen::VectorXd x = a.colPivHouseholderQr().solve(b);
+      for (int j = 0; j < m; ++j) {
+        f[free[j]] = x[j];
+        inside = inside && x[j] >= minimum_n - 1e-9 && x[j] <= maximum_n + 1e-9;
+      }
+    }
+    if (inside) {
+      const double cost = kBalanceWeight * (u * f - net).squaredNorm() +
+                          (f.array() - nominal_n).matrix().squaredNorm();
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = f;
+      }
+    }
+    int k = 0;
+    while (k < n && ++state[k] == 3) state[k++] = 0;
+    if (k == n) break;
+  }
+  best = best.cwiseMax(minimum_n).cwiseMin(maximum_n);
+  for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), best[k]};
+  plan.balanced = n >= 2 && (u * best - net).norm() <= 0.01 * net.norm() + 1e-3;
   return plan;
 }
 

@@ -31,4 +31,22 @@ ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
                          const Eigen::Vector3d& external = Eigen::Vector3d::Zero(),
                          const std::optional<Eigen::Vector3d>& aim = std::nullopt);
 
+// The point nearest to every grip contact's normal line (contact point + t * normal): the centre
+// of a sphere, a point on a cylinder's axis. Forces aimed there push along the normals. Lines
+// that do not pin a point (parallel normals: two opposed fingers) leave the free directions at
+// `fallback`. Nothing when fewer than two grip contacts have a normal.
+std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vector3d>& contacts,
+                                                   const std::vector<Eigen::Vector3d>& normals,
+                                                   const std::vector<bool>& grip,
+                                                   const Eigen::Vector3d& fallback);
+
+// Grip forces aimed at `aim` whose sum is `net` as nearly as forces within [minimum_n,
+// maximum_n] allow, and otherwise as near the nominal force as possible: bounded least squares
+// over at most a few fingers, solved exactly by trying every set of active bounds. `balanced`
+// when the sum is within 1 % (+ 1 mN) of `net`.
+ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
+                            const std::vector<bool>& grip, const Eigen::Vector3d& aim,
+                            double nominal_n, double minimum_n, double maximum_n,
+                            const Eigen::Vector3d& net);
+
 }  // namespace dmpl

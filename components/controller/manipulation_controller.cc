@@ -48,6 +48,15 @@ void ControllerParams::Validate(const std::string& source) const {
   if (!(adapt.max_grip_force_n >= grip_force_n)) {
     fail("grip_adaptation.max_grip_force_n", "must be >= grip_force_n");
   }
+  if (load.proportional_gain < 0 || load.integral_gain < 0) {
+    fail("load", "proportional_gain and integral_gain must be >= 0");
+  }
+  if (load.max_load_n < 0 || load.max_net_force_n < 0) {
+    fail("load", "max_load_n and max_net_force_n must be >= 0");
+  }
+  if (!(load.max_grip_force_n >= grip_force_n)) {
+    fail("load.max_grip_force_n", "must be >= grip_force_n");
+  }
   for (const auto& [key, g] : {std::pair{"force", force}, {"explore_force", explore_force}}) {
     if (g.kp < 0 || g.ki < 0 || !(g.integral_limit > 0)) {
       fail(key, "kp, ki must be >= 0 and integral_limit > 0");
@@ -66,7 +75,8 @@ ManipulationController::ManipulationController(const HandKinematics& kinematics,
       params_(params),
       dt_(tick_s),
       fingers_(kinematics.num_fingers()),
-      grip_(params.grip_adaptation, params.grip_force_n) {
+      grip_(params.grip_adaptation, params.grip_force_n),
+      load_(params.load) {
   DMPL_DEMAND(tick_s > 0);
   out_.fingers.resize(kinematics.num_fingers());
   max_linear_ = params_.max_linear_speed;
@@ -303,6 +313,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
       external += Ramp(s, force) * normals[f];
     }
   }
+  const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   // Along a grip force the force loop wins over any position correction, so the object's
   // translation is corrected through the force plan itself: the grip forces add up to a net
   // force toward the reference instead of zero (a spring on the object's position).
@@ -317,7 +328,6 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
                                                     params_.surface_centre_offset[2]);
   }
   // The grip adapts to the load: the explorer's share and what slips taught (grip_adapter.h).
-  const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
   if (params_.grip_adaptation.enabled) {
     std::vector<std::optional<Eigen::Vector3d>> offsets(nf);
     int holding = 0;
@@ -338,7 +348,35 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   out_.load_scale = grip_.load_scale();
   // The minimum scales with the grip (the ratio first: 1.0 exactly when nothing adapted).
   const double minimum = params_.min_grip_force_n * (grip_force / params_.grip_force_n);
-  const ForcePlan plan = PlanGripForces(contacts, in_grip, grip_force, minimum, external, aim);
+  // The load the grip has learned to carry (load_estimator.h), aimed where the normals meet.
+  std::optional<ForcePlan> bounded;
+  if (params_.load.enabled) {
+    if (moving) {
+      hold_position_ = reference_.translation();
+    } else if (grip_contacts < 2) {
+      hold_position_.reset();
+    } else if (!hold_position_ && has_estimate_) {
+      hold_position_ = estimate_.translation();
+    }
+    const Eigen::Vector3d error =
+        hold_position_ && has_estimate_ ? Eigen::Vector3d(*hold_position_ - estimate_.translation())
+                                        : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d carry = load_.Update(dt_, error, hold_position_ && grip_contacts >= 2);
+    external -= carry;
+    out_.load_n = load_.load();
+    if (params_.load.aim_at_normals && !aim) {
+      Eigen::Vector3d fallback = has_estimate_ ? Eigen::Vector3d(estimate_.translation())
+                                               : Eigen::Vector3d::Zero();
+      aim = NormalsMeetingPoint(contacts, normals, in_grip, fallback);
+    }
+    if (aim && grip_contacts >= 2) {
+      bounded = PlanBoundedForces(contacts, in_grip, *aim, grip_force, minimum,
+                                  std::max(params_.load.max_grip_force_n, grip_force), -external);
+    }
+  }
+  const ForcePlan plan =
+      bounded ? *bounded : PlanGripForces(contacts, in_grip, grip_force, minimum, external, aim);
+  out_.net_force_n = -external;
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
   const Eigen::Vector3d centre =
       grip_contacts >= 2 ? plan.centroid

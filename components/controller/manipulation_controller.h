@@ -13,6 +13,7 @@
 // and the composite manipulation action: a desired object pose, moved by the GRIP fingers.
 #include <cstdint>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -20,6 +21,7 @@
 #include "components/controller/controller_params.h"
 #include "components/controller/force_planner.h"
 #include "components/controller/grip_adapter.h"
+#include "components/controller/load_estimator.h"
 #include "components/kinematics/hand_kinematics.h"
 
 namespace dmpl {
@@ -104,6 +106,8 @@ struct ControllerOutput {
   Eigen::Vector3d contact_centroid = Eigen::Vector3d::Zero();
   double grip_force_n = 0.0;           // planned per grip finger (GripAdapter)
   double load_scale = 1.0;
+  Eigen::Vector3d load_n = Eigen::Vector3d::Zero();  // the load learned (LoadEstimator)
+  Eigen::Vector3d net_force_n = Eigen::Vector3d::Zero();  // what the grip forces add up to
 };
 
 class ManipulationController {
@@ -152,6 +156,8 @@ class ManipulationController {
   double last_time_ = -1.0;
   std::vector<FingerState> fingers_;
   GripAdapter grip_;
+  LoadEstimator load_;
+  std::optional<Eigen::Vector3d> hold_position_;  // where the object is held while no goal moves it
   ControllerOutput out_;
   int32_t task_id_ = -1;
   bool has_estimate_ = false;
