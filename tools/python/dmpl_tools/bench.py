@@ -2,8 +2,9 @@
 
 sim:  median wall time of one physics step of the hand holding the paper's sphere, dmpl's
       simulator against PyBullet (PyPI) loading the same URDF and scene (configs/bench/sim_hold.yaml)
-      with the same time step, solver iterations and contact settings. Keys: dmpl_step_us,
-      pybullet_step_us, ratio (dmpl / PyBullet).
+      with the same time step, solver iterations and contact settings, and against MuJoCo (PyPI)
+      on the same URDF and scene with its own solver (bench_mujoco.py). Keys: dmpl_step_us,
+      pybullet_step_us, mujoco_step_us, ratio (dmpl / PyBullet), ratio_mujoco (dmpl / MuJoCo).
 """
 import argparse
 import json
@@ -111,16 +112,21 @@ def bench_sim(rounds=3, warmup=500, steps=3000):
     """Alternates dmpl and PyBullet `rounds` times; reports the median of the round medians."""
     with open(SIM_SCENE) as f:
         scene = yaml.safe_load(f)
-    dmpl_runs, pyb_runs = [], []
+    from .bench_mujoco import mujoco_step_us
+    dmpl_runs, pyb_runs, mj_runs = [], [], []
     for r in range(rounds):
         dmpl_runs.append(dmpl_step_us(warmup, steps))
         pyb_runs.append(pybullet_step_us(scene, warmup, steps))
+        mj_runs.append(mujoco_step_us(scene, warmup, steps))
         print(f"round {r + 1}/{rounds}: dmpl {dmpl_runs[-1]['step_us_median']:.1f} us, "
-              f"PyBullet {pyb_runs[-1]['step_us_median']:.1f} us", file=sys.stderr)
+              f"PyBullet {pyb_runs[-1]['step_us_median']:.1f} us, "
+              f"MuJoCo {mj_runs[-1]['step_us_median']:.1f} us", file=sys.stderr)
     d = statistics.median(x["step_us_median"] for x in dmpl_runs)
     b = statistics.median(x["step_us_median"] for x in pyb_runs)
-    return {"dmpl_step_us": d, "pybullet_step_us": b, "ratio": d / b, "rounds": rounds,
-            "steps_per_round": steps, "dmpl": dmpl_runs[-1], "pybullet": pyb_runs[-1]}
+    m = statistics.median(x["step_us_median"] for x in mj_runs)
+    return {"dmpl_step_us": d, "pybullet_step_us": b, "mujoco_step_us": m, "ratio": d / b,
+            "ratio_mujoco": d / m, "rounds": rounds, "steps_per_round": steps,
+            "dmpl": dmpl_runs[-1], "pybullet": pyb_runs[-1], "mujoco": mj_runs[-1]}
 
 
 def main(argv=None):
