@@ -8,6 +8,8 @@
 // instead of zero. It never reads the object's mass: a heavier object sinks further until the
 // learned load carries it, a lighter one is not pushed harder than it needs.
 // Pure: no LCM, no object model.
+#include <array>
+
 #include <Eigen/Core>
 
 #include "components/runtime/params.h"
@@ -24,7 +26,15 @@ struct LoadParams {
   // cylinder) instead of at the contacts' centroid: along the normals they need no friction,
   // and contacts below the object's equator can carry its weight.
   bool aim_at_normals = true;
+  int normals_min_contacts = 4;     // ...when this many fingers grip (three alone rarely balance)
   double max_grip_force_n = 3.0;    // per finger: what the servos hold
+  // With fewer fingers the forces meet at the contacts' centroid (the paper) and friction carries
+  // the load: each grip finger squeezes at least load / (fingers * this).
+  double friction_assumed = 0.5;
+  // The direction of gravity in the palm frame, from how the hand is mounted (palm up: -x); the
+  // load is learned along it only, so that the camera's noise across it teaches nothing. Zero:
+  // a load in every direction.
+  std::array<double, 3> gravity_direction = {-1.0, 0.0, 0.0};
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -34,13 +44,16 @@ struct LoadParams {
     a->Visit(DMPL_NVP(max_load_n));
     a->Visit(DMPL_NVP(max_net_force_n));
     a->Visit(DMPL_NVP(aim_at_normals));
+    a->Visit(DMPL_NVP(normals_min_contacts));
     a->Visit(DMPL_NVP(max_grip_force_n));
+    a->Visit(DMPL_NVP(friction_assumed));
+    a->Visit(DMPL_NVP(gravity_direction));
   }
 };
 
 class LoadEstimator {
  public:
-  explicit LoadEstimator(const LoadParams& params) : params_(params) {}
+  explicit LoadEstimator(const LoadParams& params);
 
   // One tick of `dt_s`. `error`: the object's reference minus its estimate (palm frame, m).
   // `holding`: whether the grip holds the object (at least two grip contacts); the load is
@@ -52,6 +65,7 @@ class LoadEstimator {
 
  private:
   LoadParams params_;
+  Eigen::Vector3d up_ = Eigen::Vector3d::Zero();  // against gravity, unit; zero: every direction
   Eigen::Vector3d load_ = Eigen::Vector3d::Zero();
 };
 

@@ -54,6 +54,9 @@ void ControllerParams::Validate(const std::string& source) const {
   if (load.max_load_n < 0 || load.max_net_force_n < 0) {
     fail("load", "max_load_n and max_net_force_n must be >= 0");
   }
+  if (load.normals_min_contacts < 2 || load.friction_assumed < 0) {
+    fail("load", "normals_min_contacts must be >= 2 and friction_assumed >= 0");
+  }
   if (!(load.max_grip_force_n >= grip_force_n)) {
     fail("load.max_grip_force_n", "must be >= grip_force_n");
   }
@@ -350,6 +353,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   const double minimum = params_.min_grip_force_n * (grip_force / params_.grip_force_n);
   // The load the grip has learned to carry (load_estimator.h), aimed where the normals meet.
   std::optional<ForcePlan> bounded;
+  double squeeze = grip_force;
   if (params_.load.enabled) {
     if (moving) {
       hold_position_ = reference_.translation();
@@ -364,18 +368,27 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
     const Eigen::Vector3d carry = load_.Update(dt_, error, hold_position_ && grip_contacts >= 2);
     external -= carry;
     out_.load_n = load_.load();
-    if (params_.load.aim_at_normals && !aim) {
+    if (params_.load.aim_at_normals && !aim && grip_contacts >= params_.load.normals_min_contacts) {
       Eigen::Vector3d fallback = has_estimate_ ? Eigen::Vector3d(estimate_.translation())
                                                : Eigen::Vector3d::Zero();
       aim = NormalsMeetingPoint(contacts, normals, in_grip, fallback);
+      if (aim) {
+        bounded = PlanBoundedForces(contacts, in_grip, *aim, grip_force, minimum,
+                                    std::max(params_.load.max_grip_force_n, grip_force), -external);
+      }
     }
-    if (aim && grip_contacts >= 2) {
-      bounded = PlanBoundedForces(contacts, in_grip, *aim, grip_force, minimum,
-                                  std::max(params_.load.max_grip_force_n, grip_force), -external);
+    if (!bounded && grip_contacts >= 2 && params_.load.friction_assumed > 0) {
+      // Fewer fingers than the normals balance with: the paper's plan (forces at the contacts'
+      // centroid) carries the load by friction; squeeze hard enough for it.
+      squeeze = std::min(std::max(grip_force, carry.norm() / (grip_contacts *
+                                                            params_.load.friction_assumed)),
+                         std::max(params_.load.max_grip_force_n, grip_force));
     }
   }
+  const double squeezed_minimum = minimum * (squeeze / grip_force);
   const ForcePlan plan =
-      bounded ? *bounded : PlanGripForces(contacts, in_grip, grip_force, minimum, external, aim);
+      bounded ? *bounded
+              : PlanGripForces(contacts, in_grip, squeeze, squeezed_minimum, external, aim);
   out_.net_force_n = -external;
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
   const Eigen::Vector3d centre =

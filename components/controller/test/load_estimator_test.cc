@@ -103,6 +103,7 @@ TEST(LoadEstimatorTest, ASinkingObjectTeachesTheLoadWhichIsKeptAndBounded) {
   p.integral_gain = 800.0;
   p.max_load_n = 2.5;
   p.max_net_force_n = 3.0;
+  p.gravity_direction = {0.0, 0.0, 0.0};  // every direction
   LoadEstimator load(p);
   const Eigen::Vector3d sunk(0.002, 0, 0);  // 2 mm below its reference (x is up)
   Eigen::Vector3d net;
@@ -114,6 +115,13 @@ TEST(LoadEstimatorTest, ASinkingObjectTeachesTheLoadWhichIsKeptAndBounded) {
   for (int k = 0; k < 100000; ++k) net = load.Update(0.001, sunk, true);
   EXPECT_NEAR(load.load().norm(), 2.5, 1e-9);
   EXPECT_NEAR(net.norm(), 2.58, 1e-9);
+  p.gravity_direction = {-9.81, 0.0, 0.0};
+  // Along gravity only (palm up: -x): the camera's noise across it teaches nothing.
+  LoadEstimator along{p};
+  for (int k = 0; k < 100; ++k) net = along.Update(0.001, Eigen::Vector3d(0.002, 0.003, -0.001), true);
+  EXPECT_NEAR(along.load().x(), 0.16, 1e-9);
+  EXPECT_EQ(along.load().y(), 0.0);
+  EXPECT_EQ(along.load().z(), 0.0);
   // Off: no load at all.
   LoadEstimator off{LoadParams{}};
   EXPECT_EQ(off.Update(0.001, sunk, true), Eigen::Vector3d::Zero());
