@@ -1,0 +1,130 @@
+"""The golden-summary regression test: short one-process runs whose summaries must not change.
+
+    tools/dmpl golden            # run every case of tests/golden/cases.yaml, compare
+    tools/dmpl golden --update   # write the summaries as the new golden files (say why in the commit)
+
+Each case's summary.json, less what depends on the machine's speed (wall time, real-time
+factor), is compared field by field with tests/golden/CASE.json: exactly, bit for bit, on a
+machine like the one that wrote them (tests/golden/machine.json: the CPU's model and the
+instruction sets glibc's maths chooses its code by). On another CPU the last bits of sin or atan2
+may differ and contacts amplify them, so there only the discrete outcome is compared (status, drop,
+supervisor state, goals) and the largest float deviations are printed.
+"""
+import argparse
+import concurrent.futures
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import yaml
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+VOLATILE = {"wall_time_s", "realtime_factor"}
+DISCRETE = ["status", "object_dropped", "supervisor_state", "supervisor_finished",
+            "supervisor_failed", "goals_reached"]
+
+
+def machine():
+    flags, model = set(), ""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name") and not model:
+                model = line.split(":", 1)[1].strip()
+            if line.startswith("flags") and not flags:
+                flags = set(line.split(":", 1)[1].split())
+    except OSError:
+        pass
+    return {"cpu": model, "arch": platform.machine(),
+            "isa": sorted(flags & {"fma", "avx", "avx2", "avx512f", "sse4_2"})}
+
+
+def run_case(case, out_dir):
+    out = Path(out_dir) / case["name"]
+    cmd = [sys.executable, "-m", "dmpl_tools.run", str(ROOT / case["config"]), "--one-process",
+           "--quiet", "--record", "none", "--out", str(out), "--seed", str(case.get("seed", 1))]
+    for key, value in (case.get("set") or {}).items():
+        cmd += ["--set", f"{key}={json.dumps(value)}"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+    summary_file = out / "summary.json"
+    if not summary_file.is_file():
+        raise RuntimeError(f"case {case['name']}: no summary (exit {proc.returncode}):\n"
+                           f"{proc.stdout[-2000:]}{proc.stderr[-2000:]}")
+    summary = json.loads(summary_file.read_text())
+    return {k: v for k, v in summary.items() if k not in VOLATILE}
+
+
+def differences(golden, got, exact):
+    keys = DISCRETE if not exact else sorted(set(golden) | set(got))
+    diffs = [f"{k}: {golden.get(k, '<missing>')!r} -> {got.get(k, '<missing>')!r}"
+             for k in keys if (k in golden or k in got) and golden.get(k) != got.get(k)]
+    return diffs
+
+
+def largest_float_deviation(golden, got):
+    worst = (0.0, "")
+    for k, v in golden.items():
+        w = got.get(k)
+        if isinstance(v, float) and isinstance(w, float):
+            rel = abs(w - v) / max(abs(v), 1e-12)
+            worst = max(worst, (rel, k))
+    return worst
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="tools/dmpl golden", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--update", action="store_true", help="write the golden files")
+    ap.add_argument("--only", help="comma-separated case names")
+    ap.add_argument("--jobs", type=int, default=2)
+    args = ap.parse_args(argv)
+    cases = yaml.safe_load((HERE / "cases.yaml").read_text())["cases"]
+    if args.only:
+        wanted = set(args.only.split(","))
+        unknown = wanted - {c["name"] for c in cases}
+        if unknown:
+            print(f"golden: no case named {', '.join(sorted(unknown))}", file=sys.stderr)
+            return 2
+        cases = [c for c in cases if c["name"] in wanted]
+    with tempfile.TemporaryDirectory(prefix="dmpl-golden-") as tmp:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(args.jobs, 1)) as pool:
+            results = list(pool.map(lambda c: run_case(c, tmp), cases))
+    here = machine()
+    if args.update:
+        for case, summary in zip(cases, results):
+            (HERE / f"{case['name']}.json").write_text(json.dumps(summary, indent=1, sort_keys=True) + "\n")
+        (HERE / "machine.json").write_text(json.dumps(here, indent=1) + "\n")
+        print(f"golden: wrote {len(cases)} summaries ({here['cpu']})")
+        return 0
+    recorded = json.loads((HERE / "machine.json").read_text())
+    exact = recorded == here
+    if not exact:
+        print(f"golden: this machine ({here}) is not the one the files were written on "
+              f"({recorded}): comparing the discrete outcome only")
+    failed = 0
+    for case, got in zip(cases, results):
+        path = HERE / f"{case['name']}.json"
+        if not path.is_file():
+            print(f"FAIL {case['name']}: no golden file {path.relative_to(ROOT)} "
+                  "(tools/dmpl golden --update writes it)")
+            failed += 1
+            continue
+        golden = json.loads(path.read_text())
+        diffs = differences(golden, got, exact)
+        if diffs:
+            failed += 1
+            print(f"FAIL {case['name']}:\n  " + "\n  ".join(diffs))
+        else:
+            rel, key = largest_float_deviation(golden, got)
+            note = "" if exact else f" (largest float deviation {rel:.2g} in {key or '-'})"
+            print(f"same {case['name']}{note}")
+    print(f"golden: {len(cases) - failed} of {len(cases)} cases unchanged")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
