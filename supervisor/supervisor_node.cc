@@ -5,8 +5,6 @@
 //   dmpl_supervisor --dot      prints the charts (grasp; regrasp per task.turn; Graphviz), exits
 //   dmpl_supervisor --mermaid  the same in Mermaid, as drawn in the README
 #include <cmath>
-#include <cstring>
-#include <iostream>
 #include <map>
 
 #include "components/hand/hand_model.h"
@@ -15,7 +13,7 @@
 #include "components/runtime/clock.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
-#include "components/runtime/node_factories.h"
+#include "supervisor/supervisor_node.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/sim_control_t.hpp"
@@ -263,31 +261,6 @@ std::unique_ptr<Node> MakeSupervisorNode(const NodeContext& ctx) {
                                                 l.task_params, l.params);
 }
 
-}  // namespace dmpl
+const NodeInfo kSupervisorNode = {"dmpl_supervisor", "run, hand, task, supervisor", MakeSupervisorNode};
 
-#ifndef DMPL_NO_MAIN
-int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const bool dot = std::strcmp(argv[i], "--dot") == 0;
-    const bool mermaid = std::strcmp(argv[i], "--mermaid") == 0;
-    if (!dot && !mermaid) continue;
-    // The grasp chart, then the regrasp chart for each way of turning (task.turn).
-    const std::vector<std::string> fingers = {"T", "F", "M", "R"};
-    for (const char* turn : {"three", "four", "continuous", "auto"}) {
-      dmpl::TaskParams task;
-      task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
-      task.turn = turn;
-      dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
-                         dmpl::SupervisorParams{});
-      if (task.turn == "three") {
-        std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
-      }
-      std::cout << (dot ? "// " : "%% ") << "task.turn: " << turn << "\n"
-                << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
-    }
-    return 0;
-  }
-  return dmpl::RunNodeMain(argc, argv, "dmpl_supervisor", "Reads sections: run, hand, task, supervisor.",
-                           dmpl::MakeSupervisorNode);
-}
-#endif
+}  // namespace dmpl

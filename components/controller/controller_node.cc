@@ -14,7 +14,7 @@
 #include "components/runtime/channels.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
-#include "components/runtime/node_factories.h"
+#include "components/controller/controller_node.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/finger_targets_t.hpp"
 #include "dmpl/hand_sensors_t.hpp"
@@ -289,11 +289,6 @@ std::unique_ptr<Node> MakeControllerNode(const NodeContext& ctx) {
   return std::make_unique<ControllerNode>(ctx, HandModel::Load(hand), params);
 }
 
-}  // namespace dmpl
+const NodeInfo kControllerNode = {"dmpl_controller", "run, hand, controller", MakeControllerNode};
 
-#ifndef DMPL_NO_MAIN
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(argc, argv, "dmpl_controller", "Reads sections: run, hand, controller.",
-                           dmpl::MakeControllerNode);
-}
-#endif
+}  // namespace dmpl

@@ -9,7 +9,7 @@
 #include "components/runtime/clock.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
-#include "components/runtime/node_factories.h"
+#include "components/ik/ik_node.h"
 #include "dmpl/finger_targets_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/ik_status_t.hpp"
@@ -153,11 +153,6 @@ std::unique_ptr<Node> MakeIkNode(const NodeContext& ctx) {
   return std::make_unique<IkNode>(ctx, HandModel::Load(hand), ik);
 }
 
-}  // namespace dmpl
+const NodeInfo kIkNode = {"dmpl_ik", "run, hand, ik", MakeIkNode};
 
-#ifndef DMPL_NO_MAIN
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(argc, argv, "dmpl_ik", "Reads sections: run, hand, ik.",
-                           dmpl::MakeIkNode);
-}
-#endif
+}  // namespace dmpl

@@ -197,8 +197,8 @@ NodeCommandLine ParseNodeCommandLine(int argc, char** argv) {
   return cl;
 }
 
-int RunNodeMain(int argc, char** argv, const std::string& default_name, const std::string& usage,
-                const std::function<std::unique_ptr<Node>(const NodeContext&)>& make) {
+int RunNodeMain(int argc, char** argv, const NodeInfo& info) {
+  const std::string default_name = info.name;
   NodeContext ctx;
   NodeCommandLine cl;
   try {
@@ -207,7 +207,7 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
       std::cout << "usage: " << default_name
                 << " [--config FILE] [--params FILE]... [--set key=value]... [--lcm-url URL]"
                    " [--name NAME] [--print-config] [--check]\n"
-                << usage << "\n";
+                << "Reads sections: " << info.reads << ".\n";
       return 0;
     }
     ctx.name = cl.name.empty() ? default_name : cl.name;
@@ -228,7 +228,7 @@ int RunNodeMain(int argc, char** argv, const std::string& default_name, const st
   ctx.bus = &bus;
   std::unique_ptr<Node> node;
   try {
-    node = make(ctx);
+    node = info.make(ctx);
   } catch (const std::exception& e) {
     log->critical("{}", e.what());
     return 2;

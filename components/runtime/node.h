@@ -199,9 +199,17 @@ struct NodeContext {
   LcmBus* bus;
 };
 
+// A kind of node, described once (in its `*_node.cc`): the name of its executable, which is also
+// its default node name and what an experiment's `processes[].exec` names; the config sections
+// it reads; and how to build it from a resolved config (a ConfigError names file and key).
+struct NodeInfo {
+  const char* name;
+  const char* reads;
+  std::unique_ptr<Node> (*make)(const NodeContext&);
+};
+
 // main() of a single-node process: parses the command line, resolves the config (clear errors,
-// exit 2), opens LCM, builds the node with `make`, spins. `usage` describes the sections read.
-int RunNodeMain(int argc, char** argv, const std::string& default_name, const std::string& usage,
-                const std::function<std::unique_ptr<Node>(const NodeContext&)>& make);
+// exit 2), opens LCM, builds the node, spins.
+int RunNodeMain(int argc, char** argv, const NodeInfo& node);
 
 }  // namespace dmpl

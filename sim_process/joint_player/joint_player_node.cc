@@ -2,7 +2,7 @@
 // answering each sensed tick (DMPL_SENSORS) in lockstep. Reads sections: run, hand, joint_player.
 #include "components/runtime/channels.h"
 #include "components/runtime/node.h"
-#include "components/runtime/node_factories.h"
+#include "sim_process/joint_player/joint_player_node.h"
 #include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
 #include "dmpl/sim_control_t.hpp"
@@ -74,11 +74,6 @@ std::unique_ptr<Node> MakeJointPlayerNode(const NodeContext& ctx) {
   return std::make_unique<JointPlayerNode>(ctx, model, params);
 }
 
-}  // namespace dmpl
+const NodeInfo kJointPlayerNode = {"dmpl_joint_player", "run, hand, joint_player", MakeJointPlayerNode};
 
-#ifndef DMPL_NO_MAIN
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(argc, argv, "dmpl_joint_player", "Reads sections: run, hand, joint_player.",
-                           dmpl::MakeJointPlayerNode);
-}
-#endif
+}  // namespace dmpl

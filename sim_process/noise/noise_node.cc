@@ -4,7 +4,7 @@
 #include "components/runtime/channels.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
-#include "components/runtime/node_factories.h"
+#include "sim_process/noise/noise_node.h"
 #include "dmpl/heartbeat_t.hpp"
 #include "sim_process/noise/noise_injector.h"
 
@@ -77,11 +77,6 @@ std::unique_ptr<Node> MakeNoiseNode(const NodeContext& ctx) {
   return std::make_unique<NoiseNode>(ctx, params);
 }
 
-}  // namespace dmpl
+const NodeInfo kNoiseNode = {"dmpl_noise", "run, noise", MakeNoiseNode};
 
-#ifndef DMPL_NO_MAIN
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(argc, argv, "dmpl_noise", "Reads sections: run, noise.",
-                           dmpl::MakeNoiseNode);
-}
-#endif
+}  // namespace dmpl

@@ -20,7 +20,7 @@
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
 #include "components/runtime/node.h"
-#include "components/runtime/node_factories.h"
+#include "sim_process/sim/sim_node.h"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/hand_sensors_t.hpp"
 #include "dmpl/joint_cmd_t.hpp"
@@ -479,11 +479,6 @@ std::unique_ptr<Node> MakeSimNode(const NodeContext& ctx) {
   return std::make_unique<SimNode>(ctx, HandModel::Load(hand), sim, object);
 }
 
-}  // namespace dmpl
+const NodeInfo kSimNode = {"dmpl_sim", "run, hand, sim, object", MakeSimNode};
 
-#ifndef DMPL_NO_MAIN
-int main(int argc, char** argv) {
-  return dmpl::RunNodeMain(argc, argv, "dmpl_sim", "Reads sections: run, hand, sim, object.",
-                           dmpl::MakeSimNode);
-}
-#endif
+}  // namespace dmpl

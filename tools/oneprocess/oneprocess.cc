@@ -14,22 +14,26 @@
 
 #include "components/runtime/clock.h"
 #include "components/runtime/log_recorder.h"
-#include "components/runtime/node_factories.h"
+#include "components/controller/controller_node.h"
+#include "components/ik/ik_node.h"
+#include "sim_process/joint_player/joint_player_node.h"
+#include "sim_process/noise/noise_node.h"
+#include "sim_process/sim/sim_node.h"
+#include "supervisor/supervisor_node.h"
 
 namespace {
 
-using Factory = std::unique_ptr<dmpl::Node> (*)(const dmpl::NodeContext&);
-
-const std::map<std::string, Factory>& Factories() {
-  static const std::map<std::string, Factory> factories = {
-      {"dmpl_sim", dmpl::MakeSimNode},
-      {"dmpl_noise", dmpl::MakeNoiseNode},
-      {"dmpl_ik", dmpl::MakeIkNode},
-      {"dmpl_controller", dmpl::MakeControllerNode},
-      {"dmpl_supervisor", dmpl::MakeSupervisorNode},
-      {"dmpl_joint_player", dmpl::MakeJointPlayerNode},
-  };
-  return factories;
+// Every kind of node, by the name of its executable: the experiment's `processes` name them.
+const std::map<std::string, const dmpl::NodeInfo*>& Registry() {
+  static const std::map<std::string, const dmpl::NodeInfo*> registry = [] {
+    std::map<std::string, const dmpl::NodeInfo*> r;
+    for (const dmpl::NodeInfo* n : {&dmpl::kSimNode, &dmpl::kNoiseNode, &dmpl::kJointPlayerNode,
+                                    &dmpl::kIkNode, &dmpl::kControllerNode, &dmpl::kSupervisorNode}) {
+      r[n->name] = n;
+    }
+    return r;
+  }();
+  return registry;
 }
 
 }  // namespace
@@ -91,8 +95,8 @@ int main(int argc, char** argv) {
     }
     for (const auto& p : processes) {
       const std::string exec = p["exec"].as<std::string>();
-      const auto it = Factories().find(exec);
-      if (it == Factories().end()) {
+      const auto it = Registry().find(exec);
+      if (it == Registry().end()) {
         throw dmpl::ConfigError("config error in " + ctx.config.source() + ": process '" + exec +
                                 "' has no one-process node");
       }
@@ -103,7 +107,7 @@ int main(int argc, char** argv) {
       contexts.push_back(dmpl::NodeContext{
           ctx.name, exec == "dmpl_sim" ? ctx.config : ctx.config.Without("object"), ctx.run,
           ctx.bus});
-      nodes.push_back(it->second(contexts.back()));
+      nodes.push_back(it->second->make(contexts.back()));
     }
   } catch (const std::exception& e) {
     log->critical("{}", e.what());

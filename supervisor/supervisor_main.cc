@@ -1,0 +1,32 @@
+// dmpl_supervisor: the regrasp supervisor, as its own process. --dot / --mermaid print its
+// statecharts instead.
+#include <cstring>
+#include <iostream>
+
+#include "supervisor/supervisor.h"
+#include "supervisor/supervisor_node.h"
+#include "supervisor/task_description.h"
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const bool dot = std::strcmp(argv[i], "--dot") == 0;
+    const bool mermaid = std::strcmp(argv[i], "--mermaid") == 0;
+    if (!dot && !mermaid) continue;
+    // The grasp chart, then the regrasp chart for each way of turning (task.turn).
+    const std::vector<std::string> fingers = {"T", "F", "M", "R"};
+    for (const char* turn : {"three", "four", "continuous", "auto"}) {
+      dmpl::TaskParams task;
+      task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
+      task.turn = turn;
+      dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
+                         dmpl::SupervisorParams{});
+      if (task.turn == "three") {
+        std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
+      }
+      std::cout << (dot ? "// " : "%% ") << "task.turn: " << turn << "\n"
+                << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
+    }
+    return 0;
+  }
+  return dmpl::RunNodeMain(argc, argv, dmpl::kSupervisorNode);
+}
