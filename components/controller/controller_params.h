@@ -20,6 +20,28 @@ struct ForceGains {
   }
 };
 
+// Grip forces aimed where the grip contacts' normals meet (the centre of a sphere, the axis of a
+// cylinder; force_planner.h: NormalsMeetingPoint, PlanBoundedForces) instead of at the contacts'
+// centroid (the paper). Along the normals a squeeze needs no friction, so it can be raised on a
+// slick object without pushing it out; a finger whose opposite explores is kept light
+// (explore_force_n) instead of pushing the object sideways, and friction carries what cannot be
+// balanced (balance_weight), as well as the object's weight (never balanced along gravity,
+// where contacts that sank above the equator would otherwise ease the squeeze).
+struct NormalsAimParams {
+  bool enabled = false;
+  int min_contacts = 2;          // grip contacts needed
+  double balance_weight = 10.0;  // an unbalanced newton against a newton off the nominal squeeze
+  double max_force_n = 2.5;      // per finger: what the servos hold
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(enabled));
+    a->Visit(DMPL_NVP(min_contacts));
+    a->Visit(DMPL_NVP(balance_weight));
+    a->Visit(DMPL_NVP(max_force_n));
+  }
+};
+
 // Section `controller`. Gains are hand-set defaults; tools/dmpl calibrate can fit them.
 struct ControllerParams {
   // Position planner (equations 1-2) and the object reference (Fig. 1).
@@ -45,7 +67,11 @@ struct ControllerParams {
   double explore_force_n = 0.1;          // exploration finger (the paper's 0.1 N)
   double role_change_s = 0.3;            // a finger's desired force ramps to its new role's
   GripAdaptationParams grip_adaptation;  // the grip raised for the explorer's share and on slip
+  NormalsAimParams normals_aim;          // grip forces along the contact normals
   LoadParams load;                       // the load the grip learns to carry (load_estimator.h)
+  // Gravity's direction in the palm frame: how the hand is mounted (palm up), which the robot
+  // knows; the object's weight is not known.
+  std::array<double, 3> gravity_direction = {-1.0, 0.0, 0.0};
   ForceGains force;                      // grip fingers (composite)
   ForceGains explore_force{0.002, 0.15, 0.015};  // exploration (hybrid): a light touch must
                                                  // follow the object's small motions closely
@@ -98,7 +124,9 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(explore_force_n));
     a->Visit(DMPL_NVP(role_change_s));
     a->Visit(DMPL_NVP(grip_adaptation));
+    a->Visit(DMPL_NVP(normals_aim));
     a->Visit(DMPL_NVP(load));
+    a->Visit(DMPL_NVP(gravity_direction));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));

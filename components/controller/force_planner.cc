@@ -147,9 +147,10 @@ std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vect
 ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const std::vector<bool>& grip, const Eigen::Vector3d& aim,
                             double nominal_n, double minimum_n, double maximum_n,
-                            const Eigen::Vector3d& net) {
+                            const Eigen::Vector3d& net, double balance_weight,
+                            const Eigen::Vector3d& unbalanced_along) {
   DMPL_DEMAND(contacts.size() == grip.size());
-  DMPL_DEMAND(minimum_n <= nominal_n && nominal_n <= maximum_n);
+  DMPL_DEMAND(minimum_n <= nominal_n && nominal_n <= maximum_n && balance_weight > 0);
   ForcePlan plan;
   plan.forces.resize(contacts.size());
   plan.centroid = aim;
@@ -162,25 +163,31 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   DMPL_DEMAND(n <= 6);  // 3^n active sets
   Eigen::Matrix3Xd u(3, n);
   for (int k = 0; k < n; ++k) u.col(k) = (aim - contacts[idx[k]]).normalized();
-  // min w |U f - net|^2 + |f - nominal|^2 over the box: the balance weighs much more than the
-  // squeeze's evenness. Every assignment of each force to {free, minimum, maximum}; the best
+  // The balance is weighed across `unbalanced_along` only (left to friction and the squeeze).
+  Eigen::Matrix3d across = Eigen::Matrix3d::Identity();
+  if (unbalanced_along.norm() > 0) {
+    const Eigen::Vector3d a = unbalanced_along.normalized();
+    across -= a * a.transpose();
+  }
+  const Eigen::Matrix3Xd pu = across * u;
+  const Eigen::Vector3d pnet = across * net;
+  // min w |U f - net|^2 + |f - nominal|^2 over the box. Every assignment of each force to {free, minimum, maximum}; the best
   // one whose free forces lie in the box is the optimum (the problem is convex).
-  constexpr double kBalanceWeight = 1e4;
-  const double sw = std::sqrt(kBalanceWeight);
+  const double sw = std::sqrt(balance_weight);
   Eigen::VectorXd best(n);
   double best_cost = std::numeric_limits<double>::infinity();
   std::vector<int> state(n, 0);  // 0 free, 1 at the minimum, 2 at the maximum
   for (;;) {
     Eigen::VectorXd f(n);
     std::vector<int> free;
-    Eigen::Vector3d rhs = net;
+    Eigen::Vector3d rhs = pnet;
     for (int k = 0; k < n; ++k) {
       if (state[k] == 0) {
         free.push_back(k);
         continue;
       }
       f[k] = state[k] == 1 ? minimum_n : maximum_n;
-      rhs -= f[k] * u.col(k);
+      rhs -= f[k] * pu.col(k);
     }
     bool inside = true;
     if (!free.empty()) {
@@ -188,7 +195,7 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
       Eigen::MatrixXd a(3 + m, m);
       Eigen::VectorXd b(3 + m);
       a.setZero();
-      for (int j = 0; j < m; ++j) a.block<3, 1>(0, j) = sw * u.col(free[j]);
+      for (int j = 0; j < m; ++j) a.block<3, 1>(0, j) = sw * pu.col(free[j]);
       a.bottomRows(m).setIdentity();
       b.head<3>() = sw * rhs;
       b.tail(m).setConstant(nominal_n);
@@ -199,7 +206,7 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
       }
     }
     if (inside) {
-      const double cost = kBalanceWeight * (u * f - net).squaredNorm() +
+      const double cost = balance_weight * (pu * f - pnet).squaredNorm() +
                           (f.array() - nominal_n).matrix().squaredNorm();
       if (cost < best_cost) {
         best_cost = cost;
@@ -212,7 +219,7 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   }
   best = best.cwiseMax(minimum_n).cwiseMin(maximum_n);
   for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), best[k]};
-  plan.balanced = n >= 2 && (u * best - net).norm() <= 0.01 * net.norm() + 1e-3;
+  plan.balanced = n >= 2 && (pu * best - pnet).norm() <= 0.01 * pnet.norm() + 1e-3;
   return plan;
 }
 

@@ -40,13 +40,18 @@ std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vect
                                                    const std::vector<bool>& grip,
                                                    const Eigen::Vector3d& fallback);
 
-// Grip forces aimed at `aim` whose sum is `net` as nearly as forces within [minimum_n,
-// maximum_n] allow, and otherwise as near the nominal force as possible: bounded least squares
-// over at most a few fingers, solved exactly by trying every set of active bounds. `balanced`
-// when the sum is within 1 % (+ 1 mN) of `net`.
+// Grip forces aimed at `aim`, within [minimum_n, maximum_n], that minimise
+//   balance_weight |sum - net|^2 + |f - nominal|^2:
+// with a large weight the sum is `net` wherever the bounds allow; with a moderate one an
+// unbalanceable push (a finger whose opposite explores) is left to friction instead of being
+// cancelled by weakening the whole grip. Bounded least squares over a few fingers, solved exactly
+// by trying every set of active bounds. `balanced` when the sum is within 1 % (+ 1 mN) of `net`.
+// Along `unbalanced_along` (if not zero) no balance is sought: what the sum lacks there is left
+// to friction (gravity, when the squeeze is sized for the load).
 ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const std::vector<bool>& grip, const Eigen::Vector3d& aim,
                             double nominal_n, double minimum_n, double maximum_n,
-                            const Eigen::Vector3d& net);
+                            const Eigen::Vector3d& net, double balance_weight = 1e4,
+                            const Eigen::Vector3d& unbalanced_along = Eigen::Vector3d::Zero());
 
 }  // namespace dmpl

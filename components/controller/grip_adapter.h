@@ -9,9 +9,10 @@
 //    (each contact low-passed, the speed over a window: contact points chatter) above a
 //    threshold is a slip; each slip raises the grip by a factor and the
 //    raise is kept (the load learned) for the rest of the run, up to a force the servos hold.
-// Pure: no LCM, no object model. Off by default (controller.grip_adaptation.enabled): on the
-// unknown-objects benchmark it does not yet turn the heavy or slick spheres (a harder squeeze
-// with friction 0.4 pops the object out of a three-finger grip); see the README.
+// Pure: no LCM, no object model. Off by default (controller.grip_adaptation.enabled); the fast
+// gait turns it on together with controller.normals_aim: alone, a harder squeeze aimed at the
+// contacts' centroid pops a slick object out of a three-finger grip; along the normals it holds
+// (README, "Objects it was not tuned on").
 #include <Eigen/Core>
 #include <deque>
 #include <optional>

@@ -1,27 +1,34 @@
 #include "components/controller/load_estimator.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "components/runtime/check.h"
+
 namespace dmpl {
-namespace {
 
-Eigen::Vector3d Clamp(const Eigen::Vector3d& v, double max_norm) {
-  const double n = v.norm();
-  return n > max_norm ? Eigen::Vector3d(v * (max_norm / n)) : v;
+LoadEstimator::LoadEstimator(const LoadParams& params, const Eigen::Vector3d& gravity)
+    : params_(params) {
+  DMPL_DEMAND(gravity.norm() > 0);
+  up_ = -gravity.normalized();
 }
 
-}  // namespace
-
-LoadEstimator::LoadEstimator(const LoadParams& params) : params_(params) {
-  const Eigen::Vector3d g(params.gravity_direction[0], params.gravity_direction[1],
-                          params.gravity_direction[2]);
-  if (g.norm() > 0) up_ = -g.normalized();
-}
-
-Eigen::Vector3d LoadEstimator::Update(double dt_s, const Eigen::Vector3d& raw_error, bool holding) {
+Eigen::Vector3d LoadEstimator::Update(double dt_s, const Eigen::Vector3d& position, bool holding) {
   if (!params_.enabled) return Eigen::Vector3d::Zero();
-  if (!holding) return load_;
-  const Eigen::Vector3d error = up_.isZero() ? raw_error : Eigen::Vector3d(up_.dot(raw_error) * up_);
-  load_ = Clamp(load_ + params_.integral_gain * dt_s * error, params_.max_load_n);
-  return Clamp(load_ + params_.proportional_gain * error, params_.max_net_force_n);
+  if (!holding) {
+    reference_.reset();  // the object may be anywhere when the grip holds it again
+    return load();
+  }
+  if (!reference_) reference_ = position;
+  const double sink = up_.dot(*reference_ - position);
+  const double beyond = std::copysign(std::max(0.0, std::abs(sink) - params_.deadband_m), sink);
+  load_ = std::clamp(load_ + params_.integral_gain * dt_s * beyond, 0.0, params_.max_load_n);
+  if (params_.reference_follow_s > 0) {
+    *reference_ += (position - *reference_) * (dt_s / (params_.reference_follow_s + dt_s));
+  }
+  const double net = std::clamp(load_ + params_.proportional_gain * beyond, 0.0,
+                                params_.max_net_force_n);
+  return net * up_;
 }
 
 }  // namespace dmpl

@@ -48,17 +48,21 @@ void ControllerParams::Validate(const std::string& source) const {
   if (!(adapt.max_grip_force_n >= grip_force_n)) {
     fail("grip_adaptation.max_grip_force_n", "must be >= grip_force_n");
   }
-  if (load.proportional_gain < 0 || load.integral_gain < 0) {
-    fail("load", "proportional_gain and integral_gain must be >= 0");
+  if (load.proportional_gain < 0 || load.integral_gain < 0 || load.deadband_m < 0 ||
+      load.reference_follow_s < 0 || load.max_load_n < 0 || load.max_net_force_n < 0 ||
+      load.friction_assumed < 0) {
+    fail("load", "gains, deadband_m, reference_follow_s, max_load_n, max_net_force_n and "
+                 "friction_assumed must be >= 0");
   }
-  if (load.max_load_n < 0 || load.max_net_force_n < 0) {
-    fail("load", "max_load_n and max_net_force_n must be >= 0");
+  if (normals_aim.min_contacts < 2 || !(normals_aim.balance_weight > 0)) {
+    fail("normals_aim", "min_contacts must be >= 2 and balance_weight > 0");
   }
-  if (load.normals_min_contacts < 2 || load.friction_assumed < 0) {
-    fail("load", "normals_min_contacts must be >= 2 and friction_assumed >= 0");
+  if (!(normals_aim.max_force_n >= grip_force_n)) {
+    fail("normals_aim.max_force_n", "must be >= grip_force_n");
   }
-  if (!(load.max_grip_force_n >= grip_force_n)) {
-    fail("load.max_grip_force_n", "must be >= grip_force_n");
+  if (!(Eigen::Vector3d(gravity_direction[0], gravity_direction[1], gravity_direction[2]).norm() >
+        0)) {
+    fail("gravity_direction", "must not be zero");
   }
   for (const auto& [key, g] : {std::pair{"force", force}, {"explore_force", explore_force}}) {
     if (g.kp < 0 || g.ki < 0 || !(g.integral_limit > 0)) {
@@ -79,7 +83,10 @@ ManipulationController::ManipulationController(const HandKinematics& kinematics,
       dt_(tick_s),
       fingers_(kinematics.num_fingers()),
       grip_(params.grip_adaptation, params.grip_force_n),
-      load_(params.load) {
+      load_(params.load, Eigen::Vector3d(params.gravity_direction[0], params.gravity_direction[1],
+                                         params.gravity_direction[2])),
+      gravity_(params.gravity_direction[0], params.gravity_direction[1],
+               params.gravity_direction[2]) {
   DMPL_DEMAND(tick_s > 0);
   out_.fingers.resize(kinematics.num_fingers());
   max_linear_ = params_.max_linear_speed;
@@ -228,6 +235,29 @@ void ManipulationController::ApplyTask(const TaskInput& task,
   }
 }
 
+Eigen::Vector3d ManipulationController::LearnLoad(const SensedInput& in,
+                                                  const std::vector<Eigen::Vector3d>& tips,
+                                                  const std::vector<bool>& in_grip,
+                                                  int grip_contacts) {
+  // How the object sits in the fingertips: the grip contacts' mean offset from their tip
+  // centres. An object sliding down through the grip moves every contact down its tip (by
+  // r_tip / (r_tip + r_object) of the slide), which the tactile sensors measure far more
+  // precisely than the camera sees the object move. A change of who grips restarts it.
+  Eigen::Vector3d seat = Eigen::Vector3d::Zero();
+  int grip_set = 0;
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    if (!in_grip[f]) continue;
+    seat += in.tips[f].position - tips[f];
+    grip_set |= 1 << f;
+  }
+  if (grip_contacts > 0) seat /= grip_contacts;
+  const bool same_grip = grip_set == last_grip_set_;
+  last_grip_set_ = grip_set;
+  const Eigen::Vector3d carry = load_.Update(dt_, seat, grip_contacts >= 2 && same_grip);
+  out_.load_n = load_.load();
+  return carry;
+}
+
 double ManipulationController::Ramp(const FingerState& s, double role_force) const {
   if (s.ramp_since < 0 || params_.role_change_s <= 0) return role_force;
   const double a = std::clamp((now_ - s.ramp_since) / params_.role_change_s, 0.0, 1.0);
@@ -351,38 +381,29 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   out_.load_scale = grip_.load_scale();
   // The minimum scales with the grip (the ratio first: 1.0 exactly when nothing adapted).
   const double minimum = params_.min_grip_force_n * (grip_force / params_.grip_force_n);
-  // The load the grip has learned to carry (load_estimator.h), aimed where the normals meet.
-  std::optional<ForcePlan> bounded;
+  // The load the grip has learned to carry (load_estimator.h): added to what the grip forces
+  // must add up to, and squeezed for where friction must carry it.
+  const double max_force = std::max(params_.normals_aim.max_force_n, grip_force);
   double squeeze = grip_force;
   if (params_.load.enabled) {
-    if (moving) {
-      hold_position_ = reference_.translation();
-    } else if (grip_contacts < 2) {
-      hold_position_.reset();
-    } else if (!hold_position_ && has_estimate_) {
-      hold_position_ = estimate_.translation();
-    }
-    const Eigen::Vector3d error =
-        hold_position_ && has_estimate_ ? Eigen::Vector3d(*hold_position_ - estimate_.translation())
-                                        : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d carry = load_.Update(dt_, error, hold_position_ && grip_contacts >= 2);
+    const Eigen::Vector3d carry = LearnLoad(in, tips, in_grip, grip_contacts);
     external -= carry;
-    out_.load_n = load_.load();
-    if (params_.load.aim_at_normals && !aim && grip_contacts >= params_.load.normals_min_contacts) {
-      Eigen::Vector3d fallback = has_estimate_ ? Eigen::Vector3d(estimate_.translation())
-                                               : Eigen::Vector3d::Zero();
-      aim = NormalsMeetingPoint(contacts, normals, in_grip, fallback);
-      if (aim) {
-        bounded = PlanBoundedForces(contacts, in_grip, *aim, grip_force, minimum,
-                                    std::max(params_.load.max_grip_force_n, grip_force), -external);
-      }
-    }
-    if (!bounded && grip_contacts >= 2 && params_.load.friction_assumed > 0) {
-      // Fewer fingers than the normals balance with: the paper's plan (forces at the contacts'
-      // centroid) carries the load by friction; squeeze hard enough for it.
+    if (grip_contacts >= 2 && params_.load.friction_assumed > 0) {
       squeeze = std::min(std::max(grip_force, carry.norm() / (grip_contacts *
                                                             params_.load.friction_assumed)),
-                         std::max(params_.load.max_grip_force_n, grip_force));
+                         max_force);
+    }
+  }
+  std::optional<ForcePlan> bounded;
+  if (params_.normals_aim.enabled && !aim && grip_contacts >= params_.normals_aim.min_contacts) {
+    Eigen::Vector3d fallback = Eigen::Vector3d::Zero();  // the estimate, else the centroid
+    for (int f = 0; f < nf; ++f) fallback += in_grip[f] ? contacts[f] : Eigen::Vector3d::Zero();
+    fallback /= grip_contacts;
+    if (has_estimate_) fallback = estimate_.translation();
+    if (const auto meet = NormalsMeetingPoint(contacts, normals, in_grip, fallback)) {
+      bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
+                                  std::min(minimum, params_.explore_force_n), max_force, -external,
+                                  params_.normals_aim.balance_weight, gravity_);
     }
   }
   const double squeezed_minimum = minimum * (squeeze / grip_force);

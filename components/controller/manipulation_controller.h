@@ -147,6 +147,9 @@ class ManipulationController {
   // The force a finger should get now: its role's force, reached gradually after a role change
   // so that the others' plan changes smoothly (a grip finger that lets go is a step load).
   double Ramp(const FingerState& s, double role_force) const;
+  // One tick of the load estimate (load_estimator.h); the net force the grip should carry.
+  Eigen::Vector3d LearnLoad(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips,
+                            const std::vector<bool>& in_grip, int grip_contacts);
   void Emit(EventType type, int finger, double value, std::string text);
 
   const HandKinematics& kin_;
@@ -157,7 +160,8 @@ class ManipulationController {
   std::vector<FingerState> fingers_;
   GripAdapter grip_;
   LoadEstimator load_;
-  std::optional<Eigen::Vector3d> hold_position_;  // where the object is held while no goal moves it
+  Eigen::Vector3d gravity_;  // its direction in the palm frame (controller.gravity_direction)
+  int last_grip_set_ = 0;  // bit f: finger f grips (the load's seat restarts when it changes)
   ControllerOutput out_;
   int32_t task_id_ = -1;
   bool has_estimate_ = false;

@@ -101,30 +101,77 @@ TEST(LoadEstimatorTest, ASinkingObjectTeachesTheLoadWhichIsKeptAndBounded) {
   p.enabled = true;
   p.proportional_gain = 40.0;
   p.integral_gain = 800.0;
+  p.deadband_m = 0.0005;
+  p.reference_follow_s = 0.0;  // a fixed reference
   p.max_load_n = 2.5;
   p.max_net_force_n = 3.0;
-  p.gravity_direction = {0.0, 0.0, 0.0};  // every direction
-  LoadEstimator load(p);
-  const Eigen::Vector3d sunk(0.002, 0, 0);  // 2 mm below its reference (x is up)
+  const Eigen::Vector3d gravity(-1, 0, 0);  // palm up
+  LoadEstimator load(p, gravity);
+  const Eigen::Vector3d start(0.07, 0.0, 0.015);
+  load.Update(0.001, start, true);  // the reference
+  // 2.5 mm down (2 mm beyond the deadband) and sideways, which teaches nothing: the load is
+  // along gravity only.
+  const Eigen::Vector3d sunk = start + Eigen::Vector3d(-0.0025, 0.003, -0.001);
   Eigen::Vector3d net;
   for (int k = 0; k < 100; ++k) net = load.Update(0.001, sunk, true);
-  EXPECT_NEAR(load.load().x(), 800.0 * 0.1 * 0.002, 1e-9);  // 0.16 N after 0.1 s
+  EXPECT_NEAR(load.load_n(), 800.0 * 0.1 * 0.002, 1e-9);  // 0.16 N after 0.1 s
   EXPECT_NEAR(net.x(), 0.16 + 40.0 * 0.002, 1e-9);
+  EXPECT_EQ(net.y(), 0.0);
+  EXPECT_EQ(net.z(), 0.0);
   // Grasp lost: nothing learned, what was learned is kept.
-  EXPECT_NEAR(load.Update(0.001, Eigen::Vector3d(0.05, 0, 0), false).x(), 0.16, 1e-9);
-  for (int k = 0; k < 100000; ++k) net = load.Update(0.001, sunk, true);
-  EXPECT_NEAR(load.load().norm(), 2.5, 1e-9);
-  EXPECT_NEAR(net.norm(), 2.58, 1e-9);
-  p.gravity_direction = {-9.81, 0.0, 0.0};
-  // Along gravity only (palm up: -x): the camera's noise across it teaches nothing.
-  LoadEstimator along{p};
-  for (int k = 0; k < 100; ++k) net = along.Update(0.001, Eigen::Vector3d(0.002, 0.003, -0.001), true);
-  EXPECT_NEAR(along.load().x(), 0.16, 1e-9);
-  EXPECT_EQ(along.load().y(), 0.0);
-  EXPECT_EQ(along.load().z(), 0.0);
+  EXPECT_NEAR(load.Update(0.001, start - Eigen::Vector3d(0.05, 0, 0), false).x(), 0.16, 1e-9);
+  load.Update(0.001, sunk, true);  // holding again: a new reference where the object is now
+  for (int k = 0; k < 1000; ++k) net = load.Update(0.001, sunk, true);
+  EXPECT_NEAR(load.load_n(), 0.16, 1e-9) << "an object that stays put teaches nothing";
+  for (int k = 0; k < 100000; ++k) net = load.Update(0.001, sunk - Eigen::Vector3d(0.01, 0, 0), true);
+  EXPECT_NEAR(load.load_n(), 2.5, 1e-9);
+  EXPECT_NEAR(net.x(), 2.5 + 40.0 * 0.0095, 1e-9);
+}
+
+TEST(LoadEstimatorTest, TheReferenceFollowsSoOnlySinkingTeaches) {
+  LoadParams p;
+  p.enabled = true;
+  p.proportional_gain = 0.0;
+  p.integral_gain = 1000.0;
+  p.deadband_m = 0.0;
+  p.reference_follow_s = 0.1;
+  LoadEstimator load(p, Eigen::Vector3d(-1, 0, 0));
+  Eigen::Vector3d x(0.07, 0, 0);
+  load.Update(0.001, x, true);
+  x.x() -= 0.002;  // a 2 mm step down, then still
+  for (int k = 0; k < 2000; ++k) load.Update(0.001, x, true);
+  // The error decays with the follower: the load learned is ki * step * tau (0.2 N).
+  EXPECT_NEAR(load.load_n(), 1000.0 * 0.002 * 0.1, 0.01);
+  const double learned = load.load_n();
+  for (int k = 0; k < 2000; ++k) load.Update(0.001, x, true);
+  EXPECT_NEAR(load.load_n(), learned, 1e-6) << "once it stopped sinking, the load stays";
   // Off: no load at all.
-  LoadEstimator off{LoadParams{}};
-  EXPECT_EQ(off.Update(0.001, sunk, true), Eigen::Vector3d::Zero());
+  LoadEstimator off(LoadParams{}, Eigen::Vector3d(-1, 0, 0));
+  EXPECT_EQ(off.Update(0.001, x, true), Eigen::Vector3d::Zero());
+}
+
+TEST(PlanBoundedForcesTest, ALoneFingerIsKeptLightAndGravityIsLeftToFriction) {
+  // R explores: F (at +y) has no opposite. With a moderate balance weight T and M keep their
+  // squeeze and F goes light, instead of all three easing off to cancel F's push.
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  const std::vector<Eigen::Vector3d> c = {centre + Eigen::Vector3d(0, 0, -0.025),
+                                          centre + Eigen::Vector3d(0, 0.025, 0),
+                                          centre + Eigen::Vector3d(0, 0, 0.025),
+                                          centre + Eigen::Vector3d(0, -0.025, 0)};
+  const std::vector<bool> grip = {true, true, true, false};
+  const ForcePlan plan = PlanBoundedForces(c, grip, centre, 0.8, 0.1, 2.5, Eigen::Vector3d::Zero(),
+                                           10.0);
+  EXPECT_NEAR(plan.forces[0].magnitude, 0.8, 1e-9);
+  EXPECT_NEAR(plan.forces[2].magnitude, 0.8, 1e-9);
+  // F's least-squares compromise, 10 f^2 + (f - 0.8)^2 at f = 0.8 / 11, lies below the minimum.
+  EXPECT_NEAR(plan.forces[1].magnitude, 0.1, 1e-9);
+  // The weight asked along gravity, which these equatorial normals cannot give, changes nothing
+  // when gravity is left to friction.
+  const ForcePlan weighed = PlanBoundedForces(c, {true, true, true, true}, centre, 0.8, 0.1, 2.5,
+                                              Eigen::Vector3d(2.0, 0, 0), 10.0,
+                                              Eigen::Vector3d(-1, 0, 0));
+  for (const auto& f : weighed.forces) EXPECT_NEAR(f.magnitude, 0.8, 1e-9);
+  EXPECT_TRUE(weighed.balanced);  // across gravity, which is all it was asked
 }
 
 }  // namespace
