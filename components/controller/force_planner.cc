@@ -1,6 +1,7 @@
 #include "components/controller/force_planner.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -160,7 +161,7 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   }
   const int n = static_cast<int>(idx.size());
   if (n == 0) return plan;
-  DMPL_DEMAND(n <= 6);  // 3^n active sets
+  DMPL_DEMAND(n <= 6);  // at most 3^n active sets, of at most 6 x 6
   Eigen::Matrix3Xd u(3, n);
   for (int k = 0; k < n; ++k) u.col(k) = (aim - contacts[idx[k]]).normalized();
   // The balance is weighed across `unbalanced_along` only (left to friction and the squeeze).
@@ -171,51 +172,60 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   }
   const Eigen::Matrix3Xd pu = across * u;
   const Eigen::Vector3d pnet = across * net;
-  // min w |U f - net|^2 + |f - nominal|^2 over the box. Every assignment of each force to {free, minimum, maximum}; the best
-  // one whose free forces lie in the box is the optimum (the problem is convex).
-  const double sw = std::sqrt(balance_weight);
-  Eigen::VectorXd best(n);
-  double best_cost = std::numeric_limits<double>::infinity();
-  std::vector<int> state(n, 0);  // 0 free, 1 at the minimum, 2 at the maximum
+  // min w |U f - net|^2 + |f - nominal|^2 over the box, i.e. min f'H f / 2 - b'f with
+  // H = w U'U + I (positive definite) and b = w U' net + nominal. Each force is free, at its
+  // minimum or at its maximum; for an assignment the free forces solve their rows of H f = b, and
+  // the first assignment whose free forces lie in the box and whose bound forces are held there
+  // by the gradient (the KKT conditions) is the optimum of this convex problem. The assignment
+  // with every force free comes first: in a balanced grasp it is the answer.
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+  const Matrix h = balance_weight * pu.transpose() * pu + Matrix::Identity(n, n);
+  const Vector b = balance_weight * pu.transpose() * pnet + Vector::Constant(n, nominal_n);
+  constexpr double kTolerance = 1e-9;
+  Vector best = Vector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
+  std::array<int, 6> state{};  // per force: 0 free, 1 at the minimum, 2 at the maximum
   for (;;) {
-    Eigen::VectorXd f(n);
-    std::vector<int> free;
-    Eigen::Vector3d rhs = pnet;
+    Vector f(n);
+    int free[6], m = 0;
     for (int k = 0; k < n; ++k) {
       if (state[k] == 0) {
-        free.push_back(k);
-        continue;
-      }
-      f[k] = state[k] == 1 ? minimum_n : maximum_n;
-      rhs -= f[k] * pu.col(k);
-    }
-    bool inside = true;
-    if (!free.empty()) {
-      const int m = static_cast<int>(free.size());
-      Eigen::MatrixXd a(3 + m, m);
-      Eigen::VectorXd b(3 + m);
-      a.setZero();
-      for (int j = 0; j < m; ++j) a.block<3, 1>(0, j) = sw * pu.col(free[j]);
-      a.bottomRows(m).setIdentity();
-      b.head<3>() = sw * rhs;
-      b.tail(m).setConstant(nominal_n);
-      const Eigen::VectorXd x = a.colPivHouseholderQr().solve(b);
-      for (int j = 0; j < m; ++j) {
-        f[free[j]] = x[j];
-        inside = inside && x[j] >= minimum_n - 1e-9 && x[j] <= maximum_n + 1e-9;
+        free[m++] = k;
+      } else {
+        f[k] = state[k] == 1 ? minimum_n : maximum_n;
       }
     }
-    if (inside) {
-      const double cost = balance_weight * (pu * f - pnet).squaredNorm() +
-                          (f.array() - nominal_n).matrix().squaredNorm();
-      if (cost < best_cost) {
-        best_cost = cost;
-        best = f;
+    bool optimal = true;
+    if (m > 0) {
+      Matrix hf(m, m);
+      Vector bf(m);
+      for (int i = 0; i < m; ++i) {
+        bf[i] = b[free[i]];
+        for (int k = 0; k < n; ++k) {
+          if (state[k] != 0) bf[i] -= h(free[i], k) * f[k];
+        }
+        for (int j = 0; j < m; ++j) hf(i, j) = h(free[i], free[j]);
       }
+      const Vector x = hf.ldlt().solve(bf);
+      for (int i = 0; i < m; ++i) {
+        f[free[i]] = x[i];
+        optimal = optimal && x[i] >= minimum_n - kTolerance && x[i] <= maximum_n + kTolerance;
+      }
+    }
+    if (optimal) {
+      const Vector gradient = h * f - b;  // a force at its minimum must want to go lower, ...
+      for (int k = 0; k < n && optimal; ++k) {
+        if (state[k] == 1) optimal = gradient[k] >= -kTolerance;
+        if (state[k] == 2) optimal = gradient[k] <= kTolerance;  // ... at its maximum higher
+      }
+    }
+    if (optimal) {
+      best = f;
+      break;
     }
     int k = 0;
     while (k < n && ++state[k] == 3) state[k++] = 0;
-    if (k == n) break;
+    if (k == n) break;  // not reached for a convex problem; the clamped nominal stays
   }
   best = best.cwiseMax(minimum_n).cwiseMin(maximum_n);
   for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), best[k]};
