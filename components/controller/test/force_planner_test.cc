@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -59,6 +61,192 @@ TEST(ForcePlannerTest, SymmetricContactsGetTheNominalForce) {
 TEST(ForcePlannerTest, FewerThanTwoGripContactsIsNotABalance) {
   const ForcePlan plan = PlanGripForces({{1, 0, 0}, {0, 1, 0}}, {true, false}, 0.8, 0.4);
   EXPECT_FALSE(plan.balanced);
+}
+
+// `count` contacts evenly around a 2.5 cm sphere, `tilt` below its equator (the palm normal x is
+
+// up), with their true normals (into the object) as a fingertip's tactile reading gives them.
+
+void SphereContacts(double tilt, std::vector<Eigen::Vector3d>* contacts,
+                    std::vector<Eigen::Vector3d>* normals, const Eigen::Vector3d& centre,
+                    int count = 4) {
+  contacts->clear();
+  normals->clear();
+  for (int k = 0; k < count; ++k) {
+    const double a = k * 2 * M_PI / count + 0.3;
+    const Eigen::Vector3d out(-std::sin(tilt), std::cos(tilt) * std::cos(a),
+                              std::cos(tilt) * std::sin(a));
+    contacts->push_back(centre + 0.025 * out);
+    normals->push_back(-out);
+  }
+}
+
+TEST(NormalsMeetingPointTest, FindsTheSphereCentreWhereverTheContactsSit) {
+  const Eigen::Vector3d centre(0.07, 0.004, 0.015);
+  std::vector<Eigen::Vector3d> c, n;
+  for (double tilt : {0.0, 0.3, 0.6}) {
+    SphereContacts(tilt, &c, &n, centre);
+    const auto p = NormalsMeetingPoint(c, n, {true, true, true, false}, centre + Eigen::Vector3d(0.005, 0, 0));
+    ASSERT_TRUE(p.has_value());
+    // Three lines through the centre pin it; the pull toward the fallback moves it < 10 um.
+    EXPECT_LT((*p - centre).norm(), 1e-5) << "tilt " << tilt;
+  }
+}
+
+TEST(NormalsMeetingPointTest, OpposedFingersLeaveTheirAxisToTheFallback) {
+  const std::vector<Eigen::Vector3d> c = {{0.07, 0.02, 0.0}, {0.07, -0.02, 0.0}};
+  const std::vector<Eigen::Vector3d> n = {{0, -1, 0}, {0, 1, 0}};
+  const auto p = NormalsMeetingPoint(c, n, {true, true}, Eigen::Vector3d(0.07, 0.005, 0.0));
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR((*p)[1], 0.005, 1e-6);  // along the line: free, from the fallback
+  EXPECT_NEAR((*p)[0], 0.07, 1e-6);
+  EXPECT_NEAR((*p)[2], 0.0, 1e-6);
+  EXPECT_FALSE(NormalsMeetingPoint({c[0]}, {n[0]}, {true}, c[0]).has_value());
+}
+
+TEST(PlanBoundedForcesTest, ContactsBelowTheEquatorCarryTheWeightAlongTheirNormals) {
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  std::vector<Eigen::Vector3d> c, n;
+  SphereContacts(0.35, &c, &n, centre, 3);
+  c.push_back(centre + Eigen::Vector3d(0.0, 0.0, 0.025));  // the explorer, out of the balance
+  n.push_back(Eigen::Vector3d(0, 0, -1));
+  const Eigen::Vector3d weight_carried(0.2 * 9.81, 0, 0);  // 200 g, palm up
+  const std::vector<bool> grip = {true, true, true, false};
+  const ForcePlan plan = PlanBoundedForces(c, grip, centre, 0.8, 0.4, 3.0, weight_carried);
+  EXPECT_TRUE(plan.balanced);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    sum += plan.forces[k].magnitude * plan.forces[k].direction;
+    EXPECT_LT(plan.forces[k].direction.cross(n[k]).norm(), 1e-9) << "along the normal";
+    EXPECT_GE(plan.forces[k].magnitude, 0.4);
+    EXPECT_LE(plan.forces[k].magnitude, 3.0);
+  }
+  EXPECT_LT((sum - weight_carried).norm(), 1e-3);
+  EXPECT_EQ(plan.forces[3].magnitude, 0.0);
+}
+
+TEST(PlanBoundedForcesTest, BoundsHoldWhenTheLoadCannotBeCarried) {
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  std::vector<Eigen::Vector3d> c, n;
+  SphereContacts(0.1, &c, &n, centre);  // nearly at the equator: little support along x
+  const ForcePlan heavy =
+      PlanBoundedForces(c, {true, true, true, true}, centre, 0.8, 0.4, 2.0, {5.0, 0, 0});
+  EXPECT_FALSE(heavy.balanced);
+  for (const auto& f : heavy.forces) EXPECT_NEAR(f.magnitude, 2.0, 1e-9);  // all at the cap
+  // No load: forces along normals below the equator all push the object up; the least they can
+  // push is the minimum each.
+  const ForcePlan none =
+      PlanBoundedForces(c, {true, true, true, true}, centre, 0.8, 0.4, 2.0, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(none.balanced);
+  for (const auto& f : none.forces) EXPECT_NEAR(f.magnitude, 0.4, 1e-9);
+}
+
+TEST(PlanBoundedForcesTest, AtTheEquatorTheSqueezeStaysNominal) {
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  std::vector<Eigen::Vector3d> c, n;
+  SphereContacts(0.0, &c, &n, centre);
+  const ForcePlan plan =
+      PlanBoundedForces(c, {true, true, true, true}, centre, 0.8, 0.4, 3.0, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(plan.balanced);
+  for (const auto& f : plan.forces) EXPECT_NEAR(f.magnitude, 0.8, 1e-6);
+}
+
+// The cost PlanBoundedForces minimises, and its minimum by brute force: a fine grid descent
+
+// from every corner would be slow; instead every assignment of each force to free / minimum /
+
+// maximum is solved and the cheapest that stays in the box is kept (no KKT shortcut).
+
+double PlanCost(const Eigen::Matrix3Xd& u, const Eigen::VectorXd& f, const Eigen::Vector3d& net,
+                double w, double nominal) {
+  return w * (u * f - net).squaredNorm() + (f.array() - nominal).matrix().squaredNorm();
+}
+
+double BruteForceMinimum(const Eigen::Matrix3Xd& u, const Eigen::Vector3d& net, double w,
+                         double nominal, double lo, double hi) {
+  const int n = static_cast<int>(u.cols());
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<int> state(n, 0);
+  for (;;) {
+    Eigen::VectorXd f(n);
+    std::vector<int> free;
+    for (int k = 0; k < n; ++k) {
+      if (state[k] == 0) free.push_back(k); else f[k] = state[k] == 1 ? lo : hi;
+    }
+    bool inside = true;
+    if (!free.empty()) {
+      const int m = static_cast<int>(free.size());
+      Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 + m, m);
+      Eigen::VectorXd b(3 + m);
+      Eigen::Vector3d rhs = net;
+      for (int k = 0; k < n; ++k) if (state[k] != 0) rhs -= f[k] * u.col(k);
+      for (int j = 0; j < m; ++j) a.block<3, 1>(0, j) = std::sqrt(w) * u.col(free[j]);
+      a.bottomRows(m).setIdentity();
+      b.head<3>() = std::sqrt(w) * rhs;
+      b.tail(m).setConstant(nominal);
+      const Eigen::VectorXd x = a.colPivHouseholderQr().solve(b);
+      for (int j = 0; j < m; ++j) {
+        f[free[j]] = x[j];
+        inside = inside && x[j] >= lo - 1e-9 && x[j] <= hi + 1e-9;
+      }
+    }
+    if (inside) best = std::min(best, PlanCost(u, f, net, w, nominal));
+    int k = 0;
+    while (k < n && ++state[k] == 3) state[k++] = 0;
+    if (k == n) break;
+  }
+  return best;
+}
+
+TEST(PlanBoundedForcesTest, FindsTheOptimumOfRandomProblems) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const Eigen::Vector3d aim(0.07, 0.0, 0.015);
+  for (int trial = 0; trial < 500; ++trial) {
+    const int n = 2 + trial % 3;
+    std::vector<Eigen::Vector3d> c;
+    for (int k = 0; k < n; ++k) {
+      c.push_back(aim + 0.025 * Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized());
+    }
+    const Eigen::Vector3d net(unit(rng), unit(rng), unit(rng));
+    const double w = trial % 2 ? 10.0 : 1e4;
+    const ForcePlan plan =
+        PlanBoundedForces(c, std::vector<bool>(n, true), aim, 0.8, 0.1, 2.5, net, w);
+    Eigen::Matrix3Xd u(3, n);
+    Eigen::VectorXd f(n);
+    for (int k = 0; k < n; ++k) {
+      u.col(k) = plan.forces[k].direction;
+      f[k] = plan.forces[k].magnitude;
+      ASSERT_GE(f[k], 0.1 - 1e-12);
+      ASSERT_LE(f[k], 2.5 + 1e-12);
+    }
+    const double best = BruteForceMinimum(u, net, w, 0.8, 0.1, 2.5);
+    ASSERT_LE(PlanCost(u, f, net, w, 0.8), best * (1 + 1e-9) + 1e-12) << "trial " << trial;
+  }
+}
+
+TEST(PlanBoundedForcesTest, ALoneFingerIsKeptLightAndGravityIsLeftToFriction) {
+  // R explores: F (at +y) has no opposite. With a moderate balance weight T and M keep their
+  // squeeze and F goes light, instead of all three easing off to cancel F's push.
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  const std::vector<Eigen::Vector3d> c = {centre + Eigen::Vector3d(0, 0, -0.025),
+                                          centre + Eigen::Vector3d(0, 0.025, 0),
+                                          centre + Eigen::Vector3d(0, 0, 0.025),
+                                          centre + Eigen::Vector3d(0, -0.025, 0)};
+  const std::vector<bool> grip = {true, true, true, false};
+  const ForcePlan plan = PlanBoundedForces(c, grip, centre, 0.8, 0.1, 2.5, Eigen::Vector3d::Zero(),
+                                           10.0);
+  EXPECT_NEAR(plan.forces[0].magnitude, 0.8, 1e-9);
+  EXPECT_NEAR(plan.forces[2].magnitude, 0.8, 1e-9);
+  // F's least-squares compromise, 10 f^2 + (f - 0.8)^2 at f = 0.8 / 11, lies below the minimum.
+  EXPECT_NEAR(plan.forces[1].magnitude, 0.1, 1e-9);
+  // The weight asked along gravity, which these equatorial normals cannot give, changes nothing
+  // when gravity is left to friction.
+  const ForcePlan weighed = PlanBoundedForces(c, {true, true, true, true}, centre, 0.8, 0.1, 2.5,
+                                              Eigen::Vector3d(2.0, 0, 0), 10.0,
+                                              Eigen::Vector3d(-1, 0, 0));
+  for (const auto& f : weighed.forces) EXPECT_NEAR(f.magnitude, 0.8, 1e-9);
+  EXPECT_TRUE(weighed.balanced);  // across gravity, which is all it was asked
 }
 
 }  // namespace
