@@ -2,7 +2,6 @@
 JavaScript in it. Tornado (a dependency of Meshcat, in the project's venv) is the WebSocket
 client."""
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -17,10 +16,6 @@ BROWSER_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swifts
                  "--enable-unsafe-swiftshader", "--no-first-run", "--remote-allow-origins=*"]
 
 
-def _idle():
-    os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
-
-
 class Browser:
     """One headless Chromium showing one page; `evaluate` runs an expression in it."""
 
@@ -32,10 +27,10 @@ class Browser:
             raise AssertionError("chromium is missing: tools/dmpl setup installs it")
         self.profile = tempfile.mkdtemp(prefix="dmpl_chromium_")
         self.proc = subprocess.Popen(
+            (["chrt", "--idle", "0"] if idle else []) +
             [chromium, *BROWSER_FLAGS, "--remote-debugging-port=0",
              f"--user-data-dir={self.profile}", "--window-size=320,240", url],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-            preexec_fn=_idle if idle else None)
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         port = self._devtools_port(timeout)
         page = self._page(port, url, timeout)
         self.loop = IOLoop()

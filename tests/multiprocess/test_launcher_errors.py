@@ -65,6 +65,37 @@ class LauncherErrorsTest(unittest.TestCase):
         self.assertRegex(r.stdout, rf"\[a\] Cpus_allowed_list:\s+{last}\n")
         self.assertRegex(r.stdout, r"\[b\] Cpus_allowed_list:\s+0\n")
 
+    def test_processes_die_with_a_killed_launcher(self):
+        # SIGKILL leaves the launcher no chance to stop its set: the kernel does it
+        # (PR_SET_PDEATHSIG, set before the process's program starts).
+        d = tempfile.mkdtemp(prefix="dmpl_set_")
+        path = os.path.join(d, "set.yaml")
+        with open(path, "w") as f:
+            f.write("name: orphans\nprocesses:\n"
+                    "  - {name: a, exec: sh, args: [-c, 'echo pid $$; sleep 60']}\n")
+        launcher = subprocess.Popen([sys.executable, "-m", "dmpl_tools.launch", path, "--run-dir",
+                                     d, "--no-record"], cwd=mp.ROOT, stdout=subprocess.PIPE,
+                                    text=True)
+        pid = None
+        for line in launcher.stdout:
+            if "pid " in line and line.startswith("[a]"):
+                pid = int(line.split("pid ")[1])
+                break
+        self.assertIsNotNone(pid)
+        launcher.kill()
+        launcher.wait()
+
+        def alive():  # a killed process waiting to be reaped counts as gone
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    return f.read().split(") ")[1][0] != "Z"
+            except FileNotFoundError:
+                return False
+        deadline = time.monotonic() + 2.0
+        while alive() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        self.assertFalse(alive(), "the set's process outlived its launcher")
+
     def test_failing_process_fails_the_set(self):
         r, _ = run_set("""
             name: failing

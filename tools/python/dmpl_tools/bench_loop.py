@@ -75,13 +75,12 @@ def _mean_message_bytes(tmp):
 
 def _hop_us(nbytes, cpus=None):
     """Half the median ping-pong round trip; both ends on `cpus` when given (as the loop runs)."""
-    pin = (lambda: os.sched_setaffinity(0, cpus)) if cpus else None
-    echo = subprocess.Popen([executable("dmpl_bench_lcm_hop"), "echo"], preexec_fn=pin)
+    pin = ["taskset", "--cpu-list", ",".join(str(c) for c in cpus)] if cpus else []
+    echo = subprocess.Popen(pin + [executable("dmpl_bench_lcm_hop"), "echo"])
     try:
         time.sleep(0.3)
-        out = subprocess.run([executable("dmpl_bench_lcm_hop"), "ping", "--bytes", str(nbytes)],
-                             capture_output=True, text=True, check=True, timeout=120,
-                             preexec_fn=pin)
+        out = subprocess.run(pin + [executable("dmpl_bench_lcm_hop"), "ping", "--bytes", str(nbytes)],
+                             capture_output=True, text=True, check=True, timeout=120)
         return json.loads(out.stdout)
     finally:
         echo.terminate()

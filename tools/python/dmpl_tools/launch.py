@@ -369,9 +369,9 @@ class Launcher:
         proc.log.write(f"--- start: {' '.join(cmd)}\n".encode())
         try:
             proc.popen = subprocess.Popen(
-                cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                env=self._env(spec), cwd=str(ROOT), start_new_session=True,
-                preexec_fn=lambda: _child_setup(spec.cpus or self.all_cpus))
+                _child_command(cmd, spec.cpus or self.all_cpus), stdin=subprocess.DEVNULL,
+                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=self._env(spec),
+                cwd=str(ROOT), start_new_session=True)
         except OSError as e:
             self.say(f"{spec.name}: cannot start: {e}")
             proc.state = "failed"
@@ -640,16 +640,16 @@ def refuse_if_in_use(url, lc=None, listen_s=IN_USE_LISTEN_S):
                        "udpm://239.255.76.67:7670?ttl=0)")
 
 
-def _child_setup(cpus):
-    """Child side: die when the launcher dies, even by SIGKILL (Linux prctl PR_SET_PDEATHSIG);
-    run on `cpus` (checked by resolve_cpus; not the launcher's own, which may be narrower)."""
-    try:
-        import ctypes
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
-    except OSError:
-        pass
+def _child_command(cmd, cpus):
+    """`cmd` so that it dies when the launcher dies, even by SIGKILL (util-linux setpriv:
+    PR_SET_PDEATHSIG, kept across exec), and runs on `cpus` (taskset; checked by resolve_cpus;
+    not the launcher's own, which may be narrower). Both act in the child before the program
+    starts, with no Python between fork and exec: a preexec_fn is unsafe while other threads
+    run, and sweeps run launchers from threads."""
+    prefix = ["setpriv", "--pdeathsig", "KILL", "--"]
     if cpus:
-        os.sched_setaffinity(0, cpus)
+        prefix += ["taskset", "--cpu-list", ",".join(str(c) for c in sorted(cpus))]
+    return prefix + list(cmd)
 
 
 def _peek_name(path):
