@@ -319,9 +319,7 @@ void Supervisor::StartTask(int index) {
       continue;
     }
     const PTask& p = it->second.front();
-    const FIstate& entry = p.entry;
-    if ((entry.contact == ContactState::kTouching && !view_.fingers[f].in_contact) ||
-        (entry.contact == ContactState::kFree && view_.fingers[f].in_contact)) {
+    if (!InState(p.entry, static_cast<int>(f), out_.task.fingers[f].role)) {
       Note("task '" + task.name + "': finger " + fingers_[f] + " is not in its entry state");
     }
     const double force = p.role == Role::kExplore && p.force_n <= 0 ? task_params_.explore_force_n
@@ -509,6 +507,15 @@ std::vector<Role> Supervisor::roles() const {
   return r;
 }
 
+bool Supervisor::InState(const FIstate& state, int finger, Role role) const {
+  const bool touching = view_.fingers[finger].in_contact;
+  if ((state.contact == ContactState::kTouching && !touching) ||
+      (state.contact == ContactState::kFree && touching)) {
+    return false;
+  }
+  return !state.role || *state.role == role;
+}
+
 bool Supervisor::ConditionHolds(Condition c, int finger) const {
   switch (c) {
     case Condition::kNone: return false;
@@ -565,6 +572,9 @@ void Supervisor::TickLocalTask() {
                           ? now_ - ptask_since_[f] >= p.duration_s
                           : ConditionHolds(p.until, static_cast<int>(f));
     if (!done) continue;
+    if (!InState(p.exit, static_cast<int>(f), p.role)) {
+      Note("task '" + task.name + "': finger " + fingers_[f] + " is not in its exit state");
+    }
     const PTask& next = seq[++i];
     ptask_since_[f] = now_;
     const double force =

@@ -130,6 +130,8 @@ class Supervisor : private RegraspActions {
   void TickGoals();
   bool StepDone(double in_phase) const;
   bool ConditionHolds(Condition c, int finger) const;
+  // Whether `finger`, playing `role`, is in `state` (a PTask's entry or exit FIstate).
+  bool InState(const FIstate& state, int finger, Role role) const;
   void Note(const std::string& text);
 
   uint64_t seed_;

@@ -13,8 +13,9 @@ TaskFile Load(const std::string& name) {
 
 // Drives a Supervisor with scripted controller views.
 struct Driver {
-  explicit Driver(const std::string& task_file, TaskParams tp = {}) :
-      sup(kFingers, Load(task_file), tp, SupervisorParams{}) {
+  explicit Driver(const std::string& task_file, TaskParams tp = {})
+      : Driver(Load(task_file), tp) {}
+  Driver(TaskFile tasks, TaskParams tp) : sup(kFingers, std::move(tasks), tp, SupervisorParams{}) {
     view.fingers.resize(4);
     view.object.translation() = Eigen::Vector3d(0.07, 0.0, 0.015);
   }
@@ -91,6 +92,23 @@ TEST(SupervisorTest, GraspChartFromHeldObjectToTasksToDone) {
   for (int i = 0; i < 120; ++i) stopped |= d.Tick().sim == SimRequest::kStop;
   EXPECT_TRUE(d.sup.finished());
   EXPECT_TRUE(stopped);
+}
+
+TEST(SupervisorTest, APTaskThatEndsOutOfItsExitStateIsReported) {
+  // The ring finger's first PTask must end touching the object (its exit FIstate).
+  TaskFile tasks = Load("fig9_explore");
+  PTask& slide = tasks.tasks[0].fingers.at("R")[0];
+  slide.exit.contact = ContactState::kTouching;
+  Driver d(std::move(tasks), TaskParams{});
+  d.Grasp();
+  ASSERT_EQ(d.sup.task_name(), "explore_ring");
+  d.view.fingers[3].in_contact = false;  // it slid off
+  std::string notes;
+  for (int i = 0; i < 200 && notes.find("exit state") == std::string::npos; ++i) {
+    d.Tick();
+    notes += d.sup.note();
+  }
+  EXPECT_NE(notes.find("finger R is not in its exit state"), std::string::npos) << notes;
 }
 
 TEST(SupervisorTest, LostGripContactPausesRegripsAndResumes) {
