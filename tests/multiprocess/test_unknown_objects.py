@@ -1,8 +1,9 @@
 """Issue 14: objects the controller was not tuned on, short turns in one-process mode (the whole
 benchmark is configs/benchmarks/unknown_objects.yaml, a sweep). The fast gait's grip (forces along
-the contact normals, raised on slips, a spring toward the task's position) holds a heavy and a
-slick sphere through their explores, where the paper's grip (forces at the contacts' centroid,
-zero net force, a fixed squeeze) loses the slick one at the first."""
+the contact normals, raised on slips, a spring toward the task's position, 1.5 N per finger)
+holds a heavy, a slick, and a heavy and slick sphere through their explores, where the paper's
+grip (forces at the contacts' centroid, zero net force, a fixed 0.8 N) loses the slick one at the
+first."""
 import sys
 import tempfile
 import unittest
@@ -16,7 +17,7 @@ CAPSULE = ["object.shape=capsule", "object.radius=0.025", "object.length=0.06",
 LONG_CYLINDER = ["object.shape=cylinder", "object.radius=0.02", "object.length=0.1",
                  "object.rpy=[0.0,1.5707963267948966,0.0]"]
 PAPERS_GRIP = ["controller.normals_aim.enabled=false", "controller.grip_adaptation.enabled=false",
-               "controller.translation_force_gain=0"]
+               "controller.translation_force_gain=0", "controller.grip_force_n=0.8"]
 
 
 def turn(*sets, angle=1.5):
@@ -40,6 +41,9 @@ class UnknownObjectsTest(unittest.TestCase):
 
     def test_a_slick_sphere(self):
         self.check_turned(turn("object.friction=0.4"))
+
+    def test_a_heavy_and_slick_sphere(self):
+        self.check_turned(turn("object.mass=0.1", "object.friction=0.4"))
 
     def test_the_papers_grip_loses_the_slick_sphere(self):
         # The same turn with the paper's force plan and a fixed squeeze: when the first finger
