@@ -106,8 +106,6 @@ struct ControllerOutput {
   Eigen::Vector3d contact_centroid = Eigen::Vector3d::Zero();
   double grip_force_n = 0.0;           // planned per grip finger (GripAdapter)
   double load_scale = 1.0;
-  Eigen::Vector3d load_n = Eigen::Vector3d::Zero();  // the load learned (LoadEstimator)
-  Eigen::Vector3d net_force_n = Eigen::Vector3d::Zero();  // what the grip forces add up to
 };
 
 class ManipulationController {
