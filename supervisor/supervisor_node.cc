@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 
+#include "components/runtime/lcm_eigen.h"
 #include "components/hand/hand_model.h"
 #include "components/kinematics/hand_kinematics.h"
 #include "components/runtime/channels.h"
@@ -81,15 +82,9 @@ class SupervisorNode : public Node {
     for (const auto& fs : m->fingers) {
       const int f = Index(fs.finger);
       if (f < 0) continue;
-      view.fingers[f] = {fs.in_contact != 0, fs.force_n,
-                         Eigen::Vector3d(fs.tip_position[0], fs.tip_position[1], fs.tip_position[2])};
+      view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position)};
     }
-    view.object.translation() =
-        Eigen::Vector3d(m->object_position[0], m->object_position[1], m->object_position[2]);
-    view.object.linear() = Eigen::Quaterniond(m->object_orientation[0], m->object_orientation[1],
-                                              m->object_orientation[2], m->object_orientation[3])
-                               .normalized()
-                               .toRotationMatrix();
+    view.object = ToPose(m->object_position, m->object_orientation);
     for (const auto& e : m->events) {
       view.events.push_back({static_cast<EventType>(e.type), Index(e.finger), e.value, e.text});
     }
@@ -126,7 +121,7 @@ class SupervisorNode : public Node {
   // Why a report is not one the controller can have sent (NaN, beyond the hand's physical
   // range), or empty.
   static std::string OutOfRange(const controller_status_t& m) {
-    const Eigen::Vector3d object(m.object_position[0], m.object_position[1], m.object_position[2]);
+    const Eigen::Vector3d object = ToVector3(m.object_position);
     if (!object.allFinite() || object.norm() > InputBounds::kWorkspaceRadiusM) {
       return "object estimate outside the hand's workspace";
     }
@@ -134,7 +129,7 @@ class SupervisorNode : public Node {
       if (!std::isfinite(q)) return "object orientation with NaN";
     }
     for (const auto& f : m.fingers) {
-      const Eigen::Vector3d tip(f.tip_position[0], f.tip_position[1], f.tip_position[2]);
+      const Eigen::Vector3d tip = ToVector3(f.tip_position);
       if (!tip.allFinite() || tip.norm() > InputBounds::kWorkspaceRadiusM) {
         return "finger " + f.finger + " tip outside the hand's workspace";
       }
@@ -163,12 +158,8 @@ class SupervisorNode : public Node {
     m.task_id = t.task_id;
     m.name = t.name;
     m.has_object_target = t.has_object_target;
-    const Eigen::Quaterniond q(t.object_target.linear());
-    for (int i = 0; i < 3; ++i) m.object_position[i] = t.object_target.translation()[i];
-    m.object_orientation[0] = q.w();
-    m.object_orientation[1] = q.x();
-    m.object_orientation[2] = q.y();
-    m.object_orientation[3] = q.z();
+    ToArray(Eigen::Vector3d(t.object_target.translation()), m.object_position);
+    ToArray(Eigen::Quaterniond(t.object_target.linear()), m.object_orientation);
     m.max_linear_speed = t.max_linear_speed;
     m.max_angular_speed = t.max_angular_speed;
     for (size_t f = 0; f < fingers_.size(); ++f) {
@@ -210,12 +201,7 @@ class SupervisorNode : public Node {
     s.num_goals = goals.size();
     s.goals_reached = goals.reached();
     s.has_orientation_goal = !goals.empty();
-    const Eigen::Quaterniond q =
-        goals.empty() ? Eigen::Quaterniond::Identity() : goals.current();
-    s.orientation_goal[0] = q.w();
-    s.orientation_goal[1] = q.x();
-    s.orientation_goal[2] = q.y();
-    s.orientation_goal[3] = q.z();
+    ToArray(goals.empty() ? Eigen::Quaterniond::Identity() : goals.current(), s.orientation_goal);
     s.goal_error_rad = goals.error_rad();
     lcm(channels::kSupervisorStatus).publish(channels::kSupervisorStatus, &s);
   }

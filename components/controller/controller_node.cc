@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 
+#include "components/runtime/lcm_eigen.h"
 #include "components/controller/manipulation_controller.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/lockstep.h"
@@ -23,22 +24,6 @@
 
 namespace dmpl {
 namespace {
-
-Eigen::Isometry3d PoseFrom(const double p[3], const double q[4]) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
-  t.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-  return t;
-}
-
-void PoseTo(const Eigen::Isometry3d& t, double p[3], double q[4]) {
-  const Eigen::Quaterniond qq(t.linear());
-  for (int i = 0; i < 3; ++i) p[i] = t.translation()[i];
-  q[0] = qq.w();
-  q[1] = qq.x();
-  q[2] = qq.y();
-  q[3] = qq.z();
-}
 
 class ControllerNode : public Node {
  public:
@@ -105,7 +90,7 @@ class ControllerNode : public Node {
                     t.force_n};
     }
     in.object_valid = m->object.valid;
-    in.object = PoseFrom(m->object.position, m->object.orientation);
+    in.object = ToPose(m->object.position, m->object.orientation);
     while (sensed_by_seq_.size() > 256) sensed_by_seq_.erase(sensed_by_seq_.begin());
     Arrived(kSensorsIn, m->seq);
   }
@@ -130,7 +115,7 @@ class ControllerNode : public Node {
     t.task_id = m->task_id;
     t.name = m->name;
     t.has_object_target = m->has_object_target;
-    t.object_target = PoseFrom(m->object_position, m->object_orientation);
+    t.object_target = ToPose(m->object_position, m->object_orientation);
     t.max_linear_speed = m->max_linear_speed;
     t.max_angular_speed = m->max_angular_speed;
     t.fingers.resize(kin_.num_fingers());
@@ -144,7 +129,7 @@ class ControllerNode : public Node {
       ft.role = static_cast<Role>(fp.role);
       ft.primitive = static_cast<Primitive>(fp.primitive);
       ft.has_target = fp.has_target;
-      ft.target = Eigen::Vector3d(fp.target_position[0], fp.target_position[1], fp.target_position[2]);
+      ft.target = ToVector3(fp.target_position);
       ft.force_n = fp.force_n;
     }
     // Kept by seq: tick k uses the answer to tick k - 1 even if the next one arrives first
@@ -191,7 +176,7 @@ class ControllerNode : public Node {
     for (size_t f = 0; f < out.fingers.size(); ++f) {
       finger_target_t& t = targets_.fingers[f];
       t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;
-      for (int i = 0; i < 3; ++i) t.position[i] = out.fingers[f].target[i];
+      ToArray(out.fingers[f].target, t.position);
     }
     PublishLoop(channels::kFingerTargets, targets_);
 
@@ -204,8 +189,9 @@ class ControllerNode : public Node {
     status_.grip_force_n = out.grip_force_n;
     status_.load_scale = out.load_scale;
     status_.tracking_error_m = out.tracking_error_m;
-    PoseTo(out.object_estimate, status_.object_position, status_.object_orientation);
-    for (int i = 0; i < 3; ++i) status_.contact_centroid[i] = out.contact_centroid[i];
+    ToArray(Eigen::Vector3d(out.object_estimate.translation()), status_.object_position);
+    ToArray(Eigen::Quaterniond(out.object_estimate.linear()), status_.object_orientation);
+    ToArray(out.contact_centroid, status_.contact_centroid);
     for (size_t f = 0; f < out.fingers.size(); ++f) {
       const FingerOutput& o = out.fingers[f];
       finger_status_t& s = status_.fingers[f];
@@ -214,11 +200,9 @@ class ControllerNode : public Node {
       s.in_contact = o.in_contact;
       s.force_n = o.force;
       s.desired_force_n = o.desired_force;
-      for (int i = 0; i < 3; ++i) {
-        s.tip_position[i] = o.tip[i];
-        s.target_position[i] = o.target[i];
-        s.contact_position[i] = o.contact[i];
-      }
+      ToArray(o.tip, s.tip_position);
+      ToArray(o.target, s.target_position);
+      ToArray(o.contact, s.contact_position);
     }
     status_.events.clear();
     for (const ControllerEvent& e : out.events) {

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "components/runtime/lcm_eigen.h"
 #include "components/runtime/random.h"
 
 namespace dmpl {
@@ -145,13 +146,8 @@ std::optional<object_pose_t> NoiseInjector::Sense(const object_pose_t& truth) {
       const Eigen::Vector3d rv(rng.Normal(), rng.Normal(), rng.Normal());
       const Eigen::Vector3d w = params_.object_orientation_sigma * rv;
       const Eigen::Quaterniond dq(Eigen::AngleAxisd(w.norm(), w.normalized()));
-      Eigen::Quaterniond q(out.orientation[0], out.orientation[1], out.orientation[2],
-                           out.orientation[3]);
-      q = (dq * q).normalized();
-      out.orientation[0] = q.w();
-      out.orientation[1] = q.x();
-      out.orientation[2] = q.y();
-      out.orientation[3] = q.z();
+      ToArray(Eigen::Quaterniond(dq * ToQuaternion(out.orientation)).normalized(),
+              out.orientation);
     }
   }
   // A pose sensor does not measure the twist.

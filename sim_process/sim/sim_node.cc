@@ -16,6 +16,7 @@
 #include <fstream>
 #include <map>
 
+#include "components/runtime/lcm_eigen.h"
 #include "components/hand/hand_model.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
@@ -99,16 +100,10 @@ class SimNode : public Node {
     pose.utime = utime;
     pose.seq = tick_;
     pose.valid = true;
-    const Eigen::Quaterniond q(o.pose.linear());
-    for (int i = 0; i < 3; ++i) {
-      pose.position[i] = o.pose.translation()[i];
-      pose.linear_velocity[i] = o.linear_velocity[i];
-      pose.angular_velocity[i] = o.angular_velocity[i];
-    }
-    pose.orientation[0] = q.w();
-    pose.orientation[1] = q.x();
-    pose.orientation[2] = q.y();
-    pose.orientation[3] = q.z();
+    ToArray(Eigen::Vector3d(o.pose.translation()), pose.position);
+    ToArray(Eigen::Quaterniond(o.pose.linear()), pose.orientation);
+    ToArray(o.linear_velocity, pose.linear_velocity);
+    ToArray(o.angular_velocity, pose.angular_velocity);
 
     tactile_t& tactile = sensors_msg_.tactile;
     tactile.utime = utime;

@@ -76,8 +76,12 @@ class LossTest(unittest.TestCase):
         # same: the loop computed the same thing.
         a, b = self.truth(self.tmp / "clean"), self.truth(self.tmp / "lossy")
         self.assertEqual(sorted(a), sorted(b))
+        # Except the run's very last truth message: once the run has ended nothing sends it
+        # again, and the recorder may have lost it (5 % of the time).
+        n = len(b["seq"])
+        self.assertIn(len(a["seq"]) - n, (0, 1), "only the last tick's truth may be missing")
         for field in set(a) - {"run_id"}:  # each run has an identity of its own
-            np.testing.assert_array_equal(a[field], b[field], err_msg=field)
+            np.testing.assert_array_equal(a[field][:n], b[field], err_msg=field)
         # What the summary computes from the loop's messages alone is the same.
         for key in LOOP_METRICS:
             self.assertEqual(clean.get(key), lossy.get(key), key)
