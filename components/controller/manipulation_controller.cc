@@ -397,10 +397,14 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   }
   std::optional<ForcePlan> bounded;
   if (params_.normals_aim.enabled && !aim && grip_contacts >= params_.normals_aim.min_contacts) {
-    Eigen::Vector3d fallback = Eigen::Vector3d::Zero();  // the estimate, else the centroid
-    for (int f = 0; f < nf; ++f) fallback += in_grip[f] ? contacts[f] : Eigen::Vector3d::Zero();
-    fallback /= grip_contacts;
-    if (has_estimate_) fallback = estimate_.translation();
+    // Where the lines leave the point free: the estimate, else the grip contacts' centroid.
+    Eigen::Vector3d fallback = Eigen::Vector3d::Zero();
+    if (has_estimate_) {
+      fallback = estimate_.translation();
+    } else {
+      for (int f = 0; f < nf; ++f) fallback += in_grip[f] ? contacts[f] : Eigen::Vector3d::Zero();
+      fallback /= grip_contacts;
+    }
     if (const auto meet = NormalsMeetingPoint(contacts, normals, in_grip, fallback)) {
       bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
                                   std::min(minimum, params_.explore_force_n), max_force, -external,

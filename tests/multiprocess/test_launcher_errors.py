@@ -11,11 +11,17 @@ import unittest
 import mp
 
 
-def run_set(text, *extra, timeout=30):
+def write_set(text):
+    """A process set file in a new directory: (its path, the directory)."""
     d = tempfile.mkdtemp(prefix="dmpl_set_")
     path = os.path.join(d, "set.yaml")
     with open(path, "w") as f:
         f.write(textwrap.dedent(text))
+    return path, d
+
+
+def run_set(text, *extra, timeout=30):
+    path, d = write_set(text)
     return subprocess.run([sys.executable, "-m", "dmpl_tools.launch", path, "--run-dir", d,
                            "--no-record", *extra], cwd=mp.ROOT, capture_output=True, text=True,
                           timeout=timeout), d
@@ -68,11 +74,8 @@ class LauncherErrorsTest(unittest.TestCase):
     def test_processes_die_with_a_killed_launcher(self):
         # SIGKILL leaves the launcher no chance to stop its set: the kernel does it
         # (PR_SET_PDEATHSIG, set before the process's program starts).
-        d = tempfile.mkdtemp(prefix="dmpl_set_")
-        path = os.path.join(d, "set.yaml")
-        with open(path, "w") as f:
-            f.write("name: orphans\nprocesses:\n"
-                    "  - {name: a, exec: sh, args: [-c, 'echo pid $$; sleep 60']}\n")
+        path, d = write_set("name: orphans\nprocesses:\n"
+                            "  - {name: a, exec: sh, args: [-c, 'echo pid $$; sleep 60']}\n")
         launcher = subprocess.Popen([sys.executable, "-m", "dmpl_tools.launch", path, "--run-dir",
                                      d, "--no-record"], cwd=mp.ROOT, stdout=subprocess.PIPE,
                                     text=True)
