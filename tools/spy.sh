@@ -2,23 +2,30 @@
 # lcm-spy with dmpl's types, on Java 17 (Debian's /usr/bin/lcm-spy passes -Xincgc and dies).
 # usage: spy.sh BUILD_DIR [--bus NAME] [lcm-spy args...]; without a display it runs under xvfb-run.
 # dmpl puts each group of channels on its own port (components/runtime/channels.h): --bus picks
-# which one to watch (management, truth, sensed, joint_state, targets, joints, task, status;
-# default management), or
+# which one to watch (management by default; the names are the build's, dmpl_channels.py), or
 # replay a log with `tools/dmpl replay LOG --single-bus` to see every channel on one URL.
 set -euo pipefail
 build="$1"; shift
-buses=(management truth sensed joint_state targets joints task status)
+table="$build/python/dmpl_channels.py"
+[ -f "$table" ] || { echo "dmpl spy: $table is missing (run tools/dmpl build)" >&2; exit 2; }
+# The default URL, then the bus names, as C++ compiles them.
+mapfile -t generated < <(python3 -c 'import runpy, sys
+t = runpy.run_path(sys.argv[1])
+print(t["DEFAULT_LCM_URL"]); print("\n".join(t["BUS_NAMES"]))' "$table")
+default_url="${generated[0]}"
+buses=("${generated[@]:1}")
 bus=0
 if [ "${1:-}" = "--bus" ]; then
   for i in "${!buses[@]}"; do [ "${buses[$i]}" = "${2:-}" ] && bus=$i; done
   [ "${buses[$bus]}" = "${2:-}" ] || { echo "dmpl spy: unknown bus '${2:-}' (${buses[*]})" >&2; exit 2; }
   shift 2
 fi
-base="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0}"
+base="${LCM_DEFAULT_URL:-$default_url}"
 if [ "$bus" -gt 0 ] && [[ "$base" =~ ^(udpm://[^:/?]+):([0-9]+)(.*)$ ]]; then
   LCM_DEFAULT_URL="${BASH_REMATCH[1]}:$(( BASH_REMATCH[2] + 1000 * bus ))${BASH_REMATCH[3]}"
   export LCM_DEFAULT_URL
 fi
+echo "dmpl spy: the ${buses[$bus]} bus, ${LCM_DEFAULT_URL:-$base}" >&2
 jar="$build/java/dmpl_types.jar"
 [ -f "$jar" ] || { echo "dmpl spy: $jar is missing (run tools/dmpl build)" >&2; exit 2; }
 cp="/usr/share/java/lcm.jar:/usr/share/java/jchart2d.jar:$jar"

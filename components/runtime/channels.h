@@ -1,6 +1,6 @@
 #pragma once
-// The one table of LCM channel names. tools/python reads this file, so keep the form
-// `inline constexpr char kName[] = "DMPL_...";` one per line.
+// The one table of LCM channel names. Every channel is listed in kChannelBuses below: the build
+// prints that table for Python and the shell tools (dmpl_channels_py -> build/python/dmpl_channels.py).
 namespace dmpl::channels {
 
 // Simulator -> noise injector: the ground truth of a tick, joints + object + fingertips in one
@@ -31,9 +31,9 @@ inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
 
 // Buses: with a udpm URL each group of channels travels on its own port (base port + 1000 * bus),
 // because LCM delivers every packet of a port to every process listening on it: a process then
-// wakes only for the channels it may want. Keep the form `{kName, bus},` one per line (tools/python
-// reads it). Channels whose relative order matters share a bus (JOINT_CMD and SIM_CONTROL: a
-// control sent in answer to tick s must reach the simulator before the command for tick s + 1).
+// wakes only for the channels it may want. Channels whose relative order matters share a bus
+// (JOINT_CMD and SIM_CONTROL: a control sent in answer to tick s must reach the simulator before
+// the command for tick s + 1).
 // The monitor bus carries what only people and tools read (lcm-spy, the recorder), so that no
 // process of the loop wakes for it. The supervisor's status (100 Hz) is on the management bus:
 // the demo's progress and the live viewer read it without joining the monitor bus's 2 kHz.

@@ -9,9 +9,10 @@ import sys
 import tempfile
 import time
 
+from dmpl_channels import DEFAULT_LCM_URL
 from dmpl_tools.bus import Buses
 
-URL = os.environ.get("LCM_DEFAULT_URL", "udpm://239.255.76.67:7667?ttl=0")
+URL = os.environ.get("LCM_DEFAULT_URL", DEFAULT_LCM_URL)
 ROOT = os.environ.get("DMPL_ROOT", os.getcwd())
 
 # Whatever a test and the processes it starts put in temporary files and directories (run

@@ -1,5 +1,6 @@
 """`tools/dmpl spy` (lcm-spy under a virtual display) finds every dmpl type: it prints
-"Found N LCM types" with N the number of .lcm files."""
+"Found N LCM types" with N the number of .lcm files. `--bus NAME` watches the port of the bus
+the build's channel table names (base port + 1000 × its index)."""
 import glob
 import os
 import re
@@ -36,6 +37,27 @@ class SpyTest(unittest.TestCase):
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
         self.assertEqual(found, want, "".join(lines))
+
+
+    def test_a_bus_is_watched_on_its_port_from_the_builds_table(self):
+        from dmpl_channels import BUS_NAMES
+        spy = [os.path.join(mp.ROOT, "tools/spy.sh"), os.environ["DMPL_BUILD_DIR"]]
+        env = dict(os.environ, LCM_DEFAULT_URL="udpm://239.255.76.67:7667?ttl=0")
+        env.pop("DISPLAY", None)
+        bad = subprocess.run(spy + ["--bus", "nonsense"], capture_output=True, text=True, env=env)
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn(" ".join(BUS_NAMES), bad.stderr)
+        for name in ("targets", "monitor"):
+            proc = subprocess.Popen(spy + ["--bus", name], stdout=subprocess.PIPE,
+                                    stderr=subprocess.STDOUT, text=True, env=env,
+                                    start_new_session=True)
+            try:
+                said = proc.stdout.readline()
+            finally:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+            port = 7667 + 1000 * BUS_NAMES.index(name)
+            self.assertIn(f"the {name} bus, udpm://239.255.76.67:{port}?ttl=0", said)
 
 
 if __name__ == "__main__":

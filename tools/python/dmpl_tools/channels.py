@@ -1,39 +1,16 @@
-"""The channel table, read from components/runtime/channels.h (the one table of channel names)."""
+"""The channel table and the default LCM URL, as C++ compiles them: the build generates the
+module dmpl_channels (build/python/dmpl_channels.py, beside the LCM types) from
+components/runtime/channels.h and config.h."""
 import re
 
-from .paths import ROOT
+try:
+    from dmpl_channels import BUSES, BUS_NAMES, CHANNELS, DEFAULT_LCM_URL
+except ImportError as e:  # the build's python/ is not on the path, or not built yet
+    raise ImportError("dmpl_channels not found: build dmpl (tools/dmpl build) and put its python/ "
+                      "directory on PYTHONPATH") from e
 
-_PATTERN = re.compile(r'inline constexpr char (k\w+)\[\] = "(DMPL_\w+)";')
-
-
-def _load():
-    text = (ROOT / "components/runtime/channels.h").read_text()
-    table = {}
-    for name, channel in _PATTERN.findall(text):
-        # kSensorsTrue -> SENSORS_TRUE
-        key = re.sub(r"(?<!^)(?=[A-Z])", "_", name[1:]).upper()
-        table[key] = channel
-    if not table:
-        raise RuntimeError("no channels found in components/runtime/channels.h")
-    return table
-
-
-CHANNELS = _load()
 globals().update(CHANNELS)
 
-_BUS = re.compile(r"\{k(\w+), (\d+)\},")
-
-
-def _load_buses():
-    text = (ROOT / "components/runtime/channels.h").read_text()
-    table = {}
-    for name, bus in _BUS.findall(text):
-        key = re.sub(r"(?<!^)(?=[A-Z])", "_", name).upper()
-        table[CHANNELS[key]] = int(bus)
-    return table
-
-
-BUSES = _load_buses()
 NUM_BUSES = max(BUSES.values()) + 1
 
 

@@ -49,7 +49,7 @@ import yaml
 from . import channels
 from .paths import BUILD, ROOT, executable
 
-DEFAULT_LCM_URL = "udpm://239.255.76.67:7667?ttl=0"
+DEFAULT_LCM_URL = channels.DEFAULT_LCM_URL
 
 
 RECEIVE_BUFFER_BYTES = 4 * 1024 * 1024
