@@ -3,6 +3,7 @@
 #include <cstring>
 #include <iostream>
 
+#include "components/hand/hand_params.h"
 #include "supervisor/supervisor.h"
 #include "supervisor/supervisor_node.h"
 #include "supervisor/task_description.h"
@@ -16,7 +17,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string> fingers = {"T", "F", "M", "R"};
     for (const char* turn : {"three", "four", "continuous", "auto"}) {
       dmpl::TaskParams task;
-      task.file = std::string(DMPL_SOURCE_DIR) + "/configs/tasks/fig10_gait.yaml";
+      task.file = dmpl::ResolveProjectPath("configs/tasks/fig10_gait.yaml");
       task.turn = turn;
       dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
                          dmpl::SupervisorParams{});

@@ -13,7 +13,7 @@ import time
 from .bus import Buses
 from .launch import RECORD_POLICIES
 from .logdata import LogError
-from .paths import ROOT
+from .paths import OUT, ROOT
 from .report import make_report
 from .run import cpu_list, loop_layout, print_headline, run_experiment
 
@@ -69,7 +69,7 @@ class Progress:
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="tools/dmpl demo", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default=str(ROOT / "out" / "demo"))
+    ap.add_argument("--out", default=str(OUT / "demo"))
     ap.add_argument("--seed", type=int)
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--config", default=str(ROOT / "configs/experiments/demo.yaml"))

@@ -47,7 +47,7 @@ from pathlib import Path
 import yaml
 
 from . import channels
-from .paths import BUILD, ROOT, executable
+from .paths import BUILD, OUT, ROOT, executable
 
 DEFAULT_LCM_URL = channels.DEFAULT_LCM_URL
 
@@ -665,7 +665,7 @@ def _peek_name(path):
 
 def default_run_dir(name):
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    return ROOT / "out" / "launch" / f"{name}-{stamp}"
+    return OUT / "launch" / f"{name}-{stamp}"
 
 
 def main(argv=None):

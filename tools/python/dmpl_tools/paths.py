@@ -6,6 +6,9 @@ from pathlib import Path
 ROOT = Path(os.environ.get("DMPL_ROOT", Path(__file__).resolve().parents[3]))
 BUILD = Path(os.environ.get("DMPL_BUILD_DIR", ROOT / "build"))
 BIN = BUILD / "bin"
+# Where runs, sweeps and the demo go by default: the source tree's out/, or (an installed dmpl,
+# whose share/ may be read-only) what its wrapper sets, ./out.
+OUT = Path(os.environ.get("DMPL_OUT", ROOT / "out"))
 
 
 def executable(name: str) -> str:

@@ -18,7 +18,7 @@ from . import experiment, metrics
 from .launch import (RECORD_POLICIES, Launcher, SetError, parse_set, refuse_if_in_use,
                      resolve_lcm_url, with_receive_buffer)
 from .logdata import Columns, LogData, extract, fields_regex
-from .paths import BUILD, ROOT
+from .paths import BUILD, OUT, ROOT
 
 
 # The processes --respawn restarts: they rejoin the loop where they left it (the others send
@@ -66,7 +66,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
         run["run_id"] = int.from_bytes(os.urandom(8), "big") >> 2
     policy = record_policy(config, record)
     name = config["experiment"]["name"]
-    out = Path(out_dir) if out_dir else ROOT / "out" / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    out = Path(out_dir) if out_dir else OUT / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     resolved, sensing = out / "config.yaml", out / "config.sensing.yaml"
     url = with_receive_buffer(resolve_lcm_url(lcm_url or config.get("run", {}).get("lcm_url")))
     if not one_process:

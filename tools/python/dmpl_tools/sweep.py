@@ -27,7 +27,7 @@ from pathlib import Path
 
 from . import experiment
 from .launch import ACTIVE, RECORD_POLICIES, SetError
-from .paths import ROOT
+from .paths import OUT, ROOT
 from .run import add_common_args, run_experiment, strict_json
 
 GRAVITY = 9.81
@@ -460,7 +460,7 @@ def main(argv=None):
         return 2
     title = args.cases or args.config
     name = Path(title).stem
-    out = Path(args.out) if args.out else ROOT / "out" / "sweeps" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    out = Path(args.out) if args.out else OUT / "sweeps" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
     if args.slurm_script:
         if args.multiprocess or args.cluster:
             ap.error("--slurm-script writes one-process trials; no --multiprocess, --cluster")
