@@ -16,7 +16,7 @@
 
 #include <Eigen/Geometry>
 
-#include "components/controller/manipulation_controller.h"
+#include "components/controller/controller_types.h"
 #include "components/runtime/params.h"
 
 namespace dmpl {
