@@ -16,7 +16,6 @@ set(DMPL_INSTALLED_LIBRARIES
   dmpl_controller_core dmpl_controller_node dmpl_supervisor_core dmpl_supervisor_node
   dmpl_sim_core dmpl_sim_scheduler dmpl_sim_node dmpl_noise_core dmpl_noise_node
   dmpl_joint_trajectory dmpl_joint_player_node dmpl_calibration)
-install(TARGETS dmpl_control_types)  # header-only: its headers are under the include root
 install(TARGETS ${DMPL_INSTALLED_EXECUTABLES} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS ${DMPL_INSTALLED_LIBRARIES} ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(PROGRAMS tools/dmpl-installed DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME dmpl)
