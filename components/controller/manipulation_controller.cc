@@ -272,10 +272,70 @@ double ManipulationController::ForceTerm(FingerState* s, const ForceGains& g, do
   return std::clamp(g.kp * e + s->integral, -g.integral_limit, g.integral_limit);
 }
 
+// One control cycle, in phases: read the sensors, take the task, move the object reference,
+// plan the grip forces, run each finger's primitive, say what happened.
 const ControllerOutput& ManipulationController::Step(const SensedInput& raw, const TaskInput& task) {
   out_.events.clear();
   out_.seq = raw.seq;
-  // The tactile calibration, if any: undo the sensors' scale, bias and offset.
+  const SensedInput in = UndoTactileCalibration(raw);
+  std::string why;
+  if (!Validate(in, &why)) {
+    Emit(EventType::kInputRejected, -1, 0.0, why + "; holding the last targets");
+    return out_;
+  }
+  AdvanceClock(in.time_s);
+  const std::vector<Eigen::Vector3d> tips = TipPositions(in.q);
+  UpdateContacts(in);
+  UpdateObjectEstimate(in);
+  ApplyTask(task, tips);
+  out_.task_id = task_id_;
+
+  const Eigen::Isometry3d reference_step = AdvanceReference();
+  const bool moving = has_goal_ && has_reference_;
+  out_.tracking_error_rad = moving ? AngleBetween(estimate_.linear(), reference_.linear()) : 0.0;
+  out_.tracking_error_m =
+      moving ? (estimate_.translation() - reference_.translation()).norm() : 0.0;
+  const GripPlan grip = PlanGrip(in, tips, moving);
+  // The position planner: where each tip goes if it moves rigidly with the object (eq. 1-2).
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  if (moving) motion = ObjectMotion(estimate_, reference_);
+  const ObjectMotionStep object{moving, reference_step, motion};
+
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    FingerState& s = fingers_[f];
+    FingerOutput& o = out_.fingers[f];
+    o.role = s.task.role;
+    o.primitive = s.task.primitive;
+    o.tip = tips[f];
+    o.in_contact = s.contact;
+    o.force = in.tips[f].force;
+    o.contact = in.tips[f].position;
+    o.desired_force = 0.0;
+    o.track = true;
+    switch (s.task.primitive) {
+      case Primitive::kHold:
+        break;
+      case Primitive::kPosition:
+        StepPosition(f, tips[f]);
+        break;
+      case Primitive::kComposite:
+        o.desired_force = StepComposite(f, in.tips[f], tips[f], grip, object);
+        break;
+      case Primitive::kHybrid:
+        o.desired_force = StepHybrid(f, in.tips[f], tips[f], grip.centre);
+        break;
+    }
+    o.target = s.target;
+    s.desired = o.desired_force;
+  }
+  EmitGraspEvents(in.time_s, grip.grip_contacts);
+  EmitMotionEvents(moving);
+  out_.object_estimate = estimate_;
+  return out_;
+}
+
+// The tactile calibration, if any: undo the sensors' scale, bias and offset.
+SensedInput ManipulationController::UndoTactileCalibration(const SensedInput& raw) const {
   SensedInput in = raw;
   const Eigen::Vector3d offset(params_.tactile_position_offset[0],
                                params_.tactile_position_offset[1],
@@ -285,33 +345,36 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
     t.force = std::max(0.0, (t.force - params_.tactile_force_bias) / params_.tactile_force_scale);
     t.position -= offset;
   }
-  std::string why;
-  if (!Validate(in, &why)) {
-    Emit(EventType::kInputRejected, -1, 0.0, why + "; holding the last targets");
-    return out_;
+  return in;
+}
+
+// The tick length from the sensed clock (the simulator's, in lockstep), else the nominal one.
+void ManipulationController::AdvanceClock(double time_s) {
+  if (last_time_ >= 0 && time_s > last_time_ && time_s - last_time_ < 0.1) {
+    dt_ = time_s - last_time_;
   }
-  // The tick length from the sensed clock (the simulator's, in lockstep), else the nominal one.
-  if (last_time_ >= 0 && in.time_s > last_time_ && in.time_s - last_time_ < 0.1) {
-    dt_ = in.time_s - last_time_;
-  }
-  last_time_ = in.time_s;
-  now_ = in.time_s;
+  last_time_ = time_s;
+  now_ = time_s;
+}
+
+// Where the fingertips are (forward kinematics); a finger without a target yet holds there.
+std::vector<Eigen::Vector3d> ManipulationController::TipPositions(const std::vector<double>& q) {
   const int nf = kin_.num_fingers();
   std::vector<Eigen::Vector3d> tips(nf);
-  for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, in.q);
+  for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, q);
   for (int f = 0; f < nf; ++f) {
     if (!fingers_[f].has_target) {
       fingers_[f].target = tips[f];
       fingers_[f].has_target = true;
     }
   }
-  UpdateContacts(in);
-  UpdateObjectEstimate(in);
-  ApplyTask(task, tips);
-  out_.task_id = task_id_;
+  return tips;
+}
 
-  // The object reference: small steps of bounded speed toward the goal (Fig. 1). Its motion this
-  // tick, in the palm frame, carries the grip fingers' anchors along (feedforward).
+// The object reference: small steps of bounded speed toward the goal (Fig. 1). Returns its
+// motion this tick, in the palm frame, which carries the grip fingers' anchors along
+// (feedforward).
+Eigen::Isometry3d ManipulationController::AdvanceReference() {
   Eigen::Isometry3d reference_step = Eigen::Isometry3d::Identity();
   if (has_goal_ && has_estimate_) {
     if (!has_reference_) {
@@ -322,19 +385,23 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
     reference_ = StepToward(reference_, goal_, max_linear_ * dt_, max_angular_ * dt_);
     reference_step = reference_ * previous.inverse();
   }
-  const bool moving = has_goal_ && has_reference_;
-  out_.tracking_error_rad = moving ? AngleBetween(estimate_.linear(), reference_.linear()) : 0.0;
-  out_.tracking_error_m =
-      moving ? (estimate_.translation() - reference_.translation()).norm() : 0.0;
+  return reference_step;
+}
 
-  // The force plan over the grip fingers that touch the object.
-  std::vector<Eigen::Vector3d> contacts(nf);
-  std::vector<bool> in_grip(nf, false);
+// The force plan over the grip fingers that touch the object.
+ManipulationController::GripPlan ManipulationController::PlanGrip(
+    const SensedInput& in, const std::vector<Eigen::Vector3d>& tips, bool moving) {
+  const int nf = kin_.num_fingers();
+  GripPlan g;
+  g.contacts.resize(nf);
+  g.in_grip.assign(nf, false);
   for (int f = 0; f < nf; ++f) {
-    contacts[f] = in.tips[f].in_contact ? in.tips[f].position : tips[f];
-    in_grip[f] = fingers_[f].task.role == Role::kGrip &&
-                 fingers_[f].task.primitive == Primitive::kComposite && fingers_[f].contact;
+    g.contacts[f] = in.tips[f].in_contact ? in.tips[f].position : tips[f];
+    g.in_grip[f] = fingers_[f].task.role == Role::kGrip &&
+                   fingers_[f].task.primitive == Primitive::kComposite && fingers_[f].contact;
   }
+  const std::vector<Eigen::Vector3d>& contacts = g.contacts;
+  const std::vector<bool>& in_grip = g.in_grip;
   // Exploring fingers push lightly along their contact normals; that push is known, so the grip
   // forces cancel it too.
   Eigen::Vector3d external = Eigen::Vector3d::Zero();
@@ -347,7 +414,8 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
       external += Ramp(s, force) * normals[f];
     }
   }
-  const int grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
+  g.grip_contacts = static_cast<int>(std::count(in_grip.begin(), in_grip.end(), true));
+  const int grip_contacts = g.grip_contacts;
   // Along a grip force the force loop wins over any position correction, so the object's
   // translation is corrected through the force plan itself: the grip forces add up to a net
   // force toward the reference instead of zero (a spring on the object's position).
@@ -361,23 +429,9 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
                                                     params_.surface_centre_offset[1],
                                                     params_.surface_centre_offset[2]);
   }
-  // The grip adapts to the load: the explorer's share and what slips taught (grip_adapter.h).
-  if (params_.grip_adaptation.enabled) {
-    std::vector<std::optional<Eigen::Vector3d>> offsets(nf);
-    int holding = 0;
-    for (int f = 0; f < nf; ++f) {
-      if (in_grip[f]) offsets[f] = in.tips[f].position - tips[f];
-      const FingerState& s = fingers_[f];
-      holding += (s.task.role == Role::kGrip && s.task.primitive == Primitive::kComposite) ||
-                 (s.task.role == Role::kExplore && s.task.primitive == Primitive::kHybrid);
-    }
-    if (grip_.Update(now_, offsets, grip_contacts, holding)) {
-      Emit(EventType::kSlip, -1, grip_.load_scale(),
-           "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
-               std::to_string(grip_.grip_force()) + " N");
-    }
-  }
+  AdaptGrip(in, tips, in_grip, grip_contacts);
   const double grip_force = grip_.grip_force();
+  g.grip_force = grip_force;
   out_.grip_force_n = grip_force;
   out_.load_scale = grip_.load_scale();
   // The minimum scales with the grip (the ratio first: 1.0 exactly when nothing adapted).
@@ -412,141 +466,152 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
     }
   }
   const double squeezed_minimum = minimum * (squeeze / grip_force);
-  const ForcePlan plan =
-      bounded ? *bounded
-              : PlanGripForces(contacts, in_grip, squeeze, squeezed_minimum, external, aim);
+  g.plan = bounded ? *bounded
+                   : PlanGripForces(contacts, in_grip, squeeze, squeezed_minimum, external, aim);
   // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
-  const Eigen::Vector3d centre =
-      grip_contacts >= 2 ? plan.centroid
-                         : (has_estimate_ ? Eigen::Vector3d(estimate_.translation()) : Eigen::Vector3d::Zero());
-  out_.contact_centroid = centre;
+  g.centre = grip_contacts >= 2 ? g.plan.centroid
+                                : (has_estimate_ ? Eigen::Vector3d(estimate_.translation())
+                                                 : Eigen::Vector3d::Zero());
+  out_.contact_centroid = g.centre;
+  return g;
+}
 
-  // The position planner: where each tip goes if it moves rigidly with the object (eq. 1-2).
-  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-  if (moving) motion = ObjectMotion(estimate_, reference_);
-
+// The grip adapts to the load: the explorer's share and what slips taught (grip_adapter.h).
+void ManipulationController::AdaptGrip(const SensedInput& in,
+                                       const std::vector<Eigen::Vector3d>& tips,
+                                       const std::vector<bool>& in_grip, int grip_contacts) {
+  if (!params_.grip_adaptation.enabled) return;
+  const int nf = kin_.num_fingers();
+  std::vector<std::optional<Eigen::Vector3d>> offsets(nf);
+  int holding = 0;
   for (int f = 0; f < nf; ++f) {
-    FingerState& s = fingers_[f];
-    FingerOutput& o = out_.fingers[f];
-    o.role = s.task.role;
-    o.primitive = s.task.primitive;
-    o.tip = tips[f];
-    o.in_contact = s.contact;
-    o.force = in.tips[f].force;
-    o.contact = in.tips[f].position;
-    o.desired_force = 0.0;
-    o.track = true;
-    switch (s.task.primitive) {
-      case Primitive::kHold:
-        break;
-      case Primitive::kPosition: {
-        if (s.task.has_target) {
-          s.target += ClampNorm(s.task.target - s.target, params_.approach_speed * dt_);
-          if (!s.reached && (tips[f] - s.task.target).norm() < params_.target_tolerance_m) {
-            s.reached = true;
-            Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
-          }
-        }
-        break;
-      }
-      case Primitive::kComposite: {
-        // Position. The finger is anchored where it took hold: a grip needs the servo's stiffness
-        // in every direction, or the tangential part of the planned force rolls the tip away.
-        // The anchor moves rigidly with the object reference (feedforward); the displacement the
-        // position planner asks of this contact (eq. 1-2, estimate -> reference) corrects it: P
-        // now, and I into the anchor, which removes the steady error of rolling contacts (a
-        // rolling object turns (r_object + r_tip) / r_object times as far as its fingertips).
-        if (!s.anchored) {
-          s.anchor = tips[f];
-          s.anchored = true;
-        }
-        Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
-        if (moving && s.task.role == Role::kGrip) {
-          // Rolling: a fingertip that rolls on the object turns about its centre by
-          // |contact - centre| / |tip - centre| of the object's turn (both seen, not known).
-          double roll = 1.0;
-          if (s.contact && params_.rolling_feedforward) {
-            const double rc = (in.tips[f].position - estimate_.translation()).norm();
-            const double rt = (tips[f] - estimate_.translation()).norm();
-            if (rt > 1e-6) roll = std::clamp(rc / rt, 0.3, 1.0);
-          }
-          const Eigen::AngleAxisd turn(reference_step.linear());
-          Eigen::Isometry3d rolled = Eigen::Isometry3d::Identity();
-          rolled.linear() = Eigen::AngleAxisd(roll * turn.angle(), turn.axis()).toRotationMatrix();
-          rolled.translation() = reference_step.translation() + reference_.translation() -
-                                 rolled.linear() * reference_.translation();
-          s.anchor = rolled * s.anchor;
-          const Eigen::Vector3d error = MoveWithObject(estimate_, motion, tips[f]) - tips[f];
-          const Eigen::Vector3d translation = reference_.translation() - estimate_.translation();
-          const Eigen::Vector3d rotation = error - translation;
-          s.anchor += dt_ * (params_.position_integral_gain * rotation +
-                             params_.translation_integral_gain * translation);
-          displacement = params_.position_gain * rotation + params_.translation_gain * translation;
-        }
-        // Force: PI along the planned direction (toward the grip centroid).
-        Eigen::Vector3d direction = plan.forces[f].direction;
-        double desired = plan.forces[f].magnitude;
-        if (!in_grip[f]) {
-          // Not (yet) part of the balance: push toward the object to (re)gain contact.
-          direction = centre - contacts[f];
-          desired = s.task.role == Role::kGrip ? grip_force : params_.explore_force_n;
-        }
-        if (s.task.force_n > 0) desired = s.task.force_n;
-        desired = Ramp(s, desired);
-        if (direction.norm() < 1e-9) direction = s.last_direction;
-        direction.normalize();
-        if (!direction.allFinite()) direction.setZero();
-        s.last_direction = direction;
-        s.anchor = tips[f] + ClampNorm(s.anchor - tips[f], params_.max_anchor_offset_m);
-        s.target = s.anchor + displacement +
-                   direction * ForceTerm(&s, params_.force, desired, in.tips[f].force);
-        o.desired_force = desired;
-        break;
-      }
-      case Primitive::kHybrid: {
-        // The normal into the object: from the tip centre through the contact point; without
-        // contact, toward the object.
-        Eigen::Vector3d normal = s.contact ? Eigen::Vector3d(in.tips[f].position - tips[f])
-                                           : Eigen::Vector3d(centre - tips[f]);
-        if (normal.norm() < 1e-9) normal = s.last_direction;
-        normal.normalize();
-        if (!normal.allFinite()) normal.setZero();
-        s.last_direction = normal;
-        // Anchored like a grip finger, but only in the tangent plane: the anchor slides toward
-        // the target point; along the normal it follows the measured tip, and the force PI sets
-        // how far in the target lies.
-        if (!s.anchored) {
-          s.anchor = tips[f];
-          s.anchored = true;
-        }
-        s.anchor -= normal * (s.anchor - tips[f]).dot(normal);
-        Eigen::Vector3d tangential = Eigen::Vector3d::Zero();
-        if (s.task.has_target) {
-          const Eigen::Vector3d to_goal = s.task.target - s.anchor;
-          const Eigen::Vector3d in_plane = to_goal - to_goal.dot(normal) * normal;
-          tangential = ClampNorm(params_.hybrid_tangential_gain * dt_ * in_plane,
-                                 params_.hybrid_max_speed * dt_);
-          if (!s.reached && in_plane.norm() < params_.target_tolerance_m) {
-            s.reached = true;
-            Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
-          }
-        }
-        const double desired =
-            Ramp(s, s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n);
-        s.anchor += tangential;
-        s.target = s.anchor + normal * ForceTerm(&s, params_.explore_force, desired, in.tips[f].force);
-        o.desired_force = desired;
-        break;
-      }
-    }
-    o.target = s.target;
-    s.desired = o.desired_force;
+    if (in_grip[f]) offsets[f] = in.tips[f].position - tips[f];
+    const FingerState& s = fingers_[f];
+    holding += (s.task.role == Role::kGrip && s.task.primitive == Primitive::kComposite) ||
+               (s.task.role == Role::kExplore && s.task.primitive == Primitive::kHybrid);
   }
+  if (grip_.Update(now_, offsets, grip_contacts, holding)) {
+    Emit(EventType::kSlip, -1, grip_.load_scale(),
+         "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
+             std::to_string(grip_.grip_force()) + " N");
+  }
+}
 
-  // Events about the grasp and the motion.
+// POSITION: the target moves toward the task's point at bounded speed.
+void ManipulationController::StepPosition(int f, const Eigen::Vector3d& tip) {
+  FingerState& s = fingers_[f];
+  if (!s.task.has_target) return;
+  s.target += ClampNorm(s.task.target - s.target, params_.approach_speed * dt_);
+  if (!s.reached && (tip - s.task.target).norm() < params_.target_tolerance_m) {
+    s.reached = true;
+    Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
+  }
+}
+
+// COMPOSITE: P/PI on position (the object's motion) plus PI on force along the plan's
+// direction, summed into one target. Returns the force asked.
+double ManipulationController::StepComposite(int f, const SensedTip& sensed,
+                                             const Eigen::Vector3d& tip, const GripPlan& grip,
+                                             const ObjectMotionStep& object) {
+  FingerState& s = fingers_[f];
+  // Position. The finger is anchored where it took hold: a grip needs the servo's stiffness
+  // in every direction, or the tangential part of the planned force rolls the tip away.
+  // The anchor moves rigidly with the object reference (feedforward); the displacement the
+  // position planner asks of this contact (eq. 1-2, estimate -> reference) corrects it: P
+  // now, and I into the anchor, which removes the steady error of rolling contacts (a
+  // rolling object turns (r_object + r_tip) / r_object times as far as its fingertips).
+  if (!s.anchored) {
+    s.anchor = tip;
+    s.anchored = true;
+  }
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+  if (object.moving && s.task.role == Role::kGrip) {
+    // Rolling: a fingertip that rolls on the object turns about its centre by
+    // |contact - centre| / |tip - centre| of the object's turn (both seen, not known).
+    double roll = 1.0;
+    if (s.contact && params_.rolling_feedforward) {
+      const double rc = (sensed.position - estimate_.translation()).norm();
+      const double rt = (tip - estimate_.translation()).norm();
+      if (rt > 1e-6) roll = std::clamp(rc / rt, 0.3, 1.0);
+    }
+    const Eigen::AngleAxisd turn(object.reference_step.linear());
+    Eigen::Isometry3d rolled = Eigen::Isometry3d::Identity();
+    rolled.linear() = Eigen::AngleAxisd(roll * turn.angle(), turn.axis()).toRotationMatrix();
+    rolled.translation() = object.reference_step.translation() + reference_.translation() -
+                           rolled.linear() * reference_.translation();
+    s.anchor = rolled * s.anchor;
+    const Eigen::Vector3d error = MoveWithObject(estimate_, object.motion, tip) - tip;
+    const Eigen::Vector3d translation = reference_.translation() - estimate_.translation();
+    const Eigen::Vector3d rotation = error - translation;
+    s.anchor += dt_ * (params_.position_integral_gain * rotation +
+                       params_.translation_integral_gain * translation);
+    displacement = params_.position_gain * rotation + params_.translation_gain * translation;
+  }
+  // Force: PI along the planned direction (toward the grip centroid).
+  Eigen::Vector3d direction = grip.plan.forces[f].direction;
+  double desired = grip.plan.forces[f].magnitude;
+  if (!grip.in_grip[f]) {
+    // Not (yet) part of the balance: push toward the object to (re)gain contact.
+    direction = grip.centre - grip.contacts[f];
+    desired = s.task.role == Role::kGrip ? grip.grip_force : params_.explore_force_n;
+  }
+  if (s.task.force_n > 0) desired = s.task.force_n;
+  desired = Ramp(s, desired);
+  if (direction.norm() < 1e-9) direction = s.last_direction;
+  direction.normalize();
+  if (!direction.allFinite()) direction.setZero();
+  s.last_direction = direction;
+  s.anchor = tip + ClampNorm(s.anchor - tip, params_.max_anchor_offset_m);
+  s.target = s.anchor + displacement +
+             direction * ForceTerm(&s, params_.force, desired, sensed.force);
+  return desired;
+}
+
+// HYBRID: position in the contact's tangent plane toward the task's point, force along its
+// normal. Returns the force asked.
+double ManipulationController::StepHybrid(int f, const SensedTip& sensed,
+                                          const Eigen::Vector3d& tip,
+                                          const Eigen::Vector3d& centre) {
+  FingerState& s = fingers_[f];
+  // The normal into the object: from the tip centre through the contact point; without
+  // contact, toward the object.
+  Eigen::Vector3d normal = s.contact ? Eigen::Vector3d(sensed.position - tip)
+                                     : Eigen::Vector3d(centre - tip);
+  if (normal.norm() < 1e-9) normal = s.last_direction;
+  normal.normalize();
+  if (!normal.allFinite()) normal.setZero();
+  s.last_direction = normal;
+  // Anchored like a grip finger, but only in the tangent plane: the anchor slides toward
+  // the target point; along the normal it follows the measured tip, and the force PI sets
+  // how far in the target lies.
+  if (!s.anchored) {
+    s.anchor = tip;
+    s.anchored = true;
+  }
+  s.anchor -= normal * (s.anchor - tip).dot(normal);
+  Eigen::Vector3d tangential = Eigen::Vector3d::Zero();
+  if (s.task.has_target) {
+    const Eigen::Vector3d to_goal = s.task.target - s.anchor;
+    const Eigen::Vector3d in_plane = to_goal - to_goal.dot(normal) * normal;
+    tangential = ClampNorm(params_.hybrid_tangential_gain * dt_ * in_plane,
+                           params_.hybrid_max_speed * dt_);
+    if (!s.reached && in_plane.norm() < params_.target_tolerance_m) {
+      s.reached = true;
+      Emit(EventType::kTargetReached, f, 0.0, kin_.finger(f).name() + " reached its point");
+    }
+  }
+  const double desired = Ramp(s, s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n);
+  s.anchor += tangential;
+  s.target = s.anchor + normal * ForceTerm(&s, params_.explore_force, desired, sensed.force);
+  return desired;
+}
+
+// GRASP_STABLE once every grip finger has held its force for stable_hold_s; GRASP_LOST when
+// fewer than two grip contacts remain.
+void ManipulationController::EmitGraspEvents(double time_s, int grip_contacts) {
   int grip_assigned = 0;
   bool stable = true;
-  for (int f = 0; f < nf; ++f) {
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
     const FingerState& s = fingers_[f];
     if (s.task.role != Role::kGrip || s.task.primitive != Primitive::kComposite) continue;
     ++grip_assigned;
@@ -558,10 +623,10 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   }
   stable = stable && grip_assigned >= 2;
   if (stable) {
-    if (stable_since_ < 0) stable_since_ = in.time_s;
-    if (!stable_sent_ && in.time_s - stable_since_ >= params_.stable_hold_s) {
+    if (stable_since_ < 0) stable_since_ = time_s;
+    if (!stable_sent_ && time_s - stable_since_ >= params_.stable_hold_s) {
       stable_sent_ = true;
-      Emit(EventType::kGraspStable, -1, in.time_s - stable_since_, "grasp stable");
+      Emit(EventType::kGraspStable, -1, time_s - stable_since_, "grasp stable");
     }
   } else {
     stable_since_ = -1.0;
@@ -576,27 +641,29 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw, con
   } else if (grip_contacts >= 2) {
     grasp_lost_sent_ = false;
   }
-  if (moving) {
-    if (out_.tracking_error_rad > params_.tracking_error_rad && !tracking_error_sent_) {
-      tracking_error_sent_ = true;
-      Emit(EventType::kTrackingError, -1, out_.tracking_error_rad, "object lags its reference");
-    } else if (out_.tracking_error_rad < 0.5 * params_.tracking_error_rad) {
-      tracking_error_sent_ = false;
-    }
-    const bool reference_at_goal = AngleBetween(reference_.linear(), goal_.linear()) < 1e-9 &&
-                                   (reference_.translation() - goal_.translation()).norm() < 1e-9;
-    out_.motion_done = reference_at_goal &&
-                       AngleBetween(estimate_.linear(), goal_.linear()) < params_.motion_done_rad &&
-                       (estimate_.translation() - goal_.translation()).norm() < params_.motion_done_m;
-    if (out_.motion_done && !motion_done_sent_) {
-      motion_done_sent_ = true;
-      Emit(EventType::kMotionDone, -1, out_.tracking_error_rad, "object at its goal");
-    }
-  } else {
+}
+
+// TRACKING_ERROR when the object lags its reference; MOTION_DONE when it is at its goal.
+void ManipulationController::EmitMotionEvents(bool moving) {
+  if (!moving) {
     out_.motion_done = false;
+    return;
   }
-  out_.object_estimate = estimate_;
-  return out_;
+  if (out_.tracking_error_rad > params_.tracking_error_rad && !tracking_error_sent_) {
+    tracking_error_sent_ = true;
+    Emit(EventType::kTrackingError, -1, out_.tracking_error_rad, "object lags its reference");
+  } else if (out_.tracking_error_rad < 0.5 * params_.tracking_error_rad) {
+    tracking_error_sent_ = false;
+  }
+  const bool reference_at_goal = AngleBetween(reference_.linear(), goal_.linear()) < 1e-9 &&
+                                 (reference_.translation() - goal_.translation()).norm() < 1e-9;
+  out_.motion_done = reference_at_goal &&
+                     AngleBetween(estimate_.linear(), goal_.linear()) < params_.motion_done_rad &&
+                     (estimate_.translation() - goal_.translation()).norm() < params_.motion_done_m;
+  if (out_.motion_done && !motion_done_sent_) {
+    motion_done_sent_ = true;
+    Emit(EventType::kMotionDone, -1, out_.tracking_error_rad, "object at its goal");
+  }
 }
 
 }  // namespace dmpl

@@ -56,10 +56,42 @@ class ManipulationController {
     Eigen::Vector3d last_direction = Eigen::Vector3d::Zero();
   };
 
+  // This tick's grip: who grips, where, and the force plan over them.
+  struct GripPlan {
+    std::vector<Eigen::Vector3d> contacts;  // sensed contact, else the fingertip
+    std::vector<bool> in_grip;              // a grip finger in contact
+    int grip_contacts = 0;
+    double grip_force = 0.0;                // per grip finger, as adapted
+    ForcePlan plan;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // where the object is, as the fingers tell
+  };
+  // This tick's move of the object reference (the position planner's input).
+  struct ObjectMotionStep {
+    bool moving = false;
+    Eigen::Isometry3d reference_step = Eigen::Isometry3d::Identity();  // palm frame
+    Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();          // M = O^-1 O'
+  };
+
+  // The phases of Step, in order.
+  SensedInput UndoTactileCalibration(const SensedInput& raw) const;
   bool Validate(const SensedInput& in, std::string* why) const;
+  void AdvanceClock(double time_s);
+  std::vector<Eigen::Vector3d> TipPositions(const std::vector<double>& q);
   void ApplyTask(const TaskInput& task, const std::vector<Eigen::Vector3d>& tips);
   void UpdateObjectEstimate(const SensedInput& in);
   void UpdateContacts(const SensedInput& in);
+  Eigen::Isometry3d AdvanceReference();
+  GripPlan PlanGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips, bool moving);
+  void AdaptGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips,
+                 const std::vector<bool>& in_grip, int grip_contacts);
+  void StepPosition(int f, const Eigen::Vector3d& tip);
+  double StepComposite(int f, const SensedTip& sensed, const Eigen::Vector3d& tip,
+                       const GripPlan& grip, const ObjectMotionStep& object);
+  double StepHybrid(int f, const SensedTip& sensed, const Eigen::Vector3d& tip,
+                    const Eigen::Vector3d& centre);
+  void EmitGraspEvents(double time_s, int grip_contacts);
+  void EmitMotionEvents(bool moving);
+
   double ForceTerm(FingerState* s, const ForceGains& gains, double desired, double measured);
   // The force a finger should get now: its role's force, reached gradually after a role change
   // so that the others' plan changes smoothly (a grip finger that lets go is a step load).
