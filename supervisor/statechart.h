@@ -11,7 +11,10 @@
 //   });
 //
 // State and Event are enums; the caller provides `const char* ToString(State)` and
-// `const char* ToString(Event)` (found by argument-dependent lookup).
+// `const char* ToString(Event)` (found by argument-dependent lookup). An event may carry data
+// (the third parameter, e.g. a reason and a finger): Process(event, data) hands it to the action
+// that fires, as Boost.SML hands an action its event.
+#include <cstddef>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -28,22 +31,34 @@ struct Guard {
   bool operator()() const { return !fn || fn(); }
 };
 
-struct Action {
-  Action() = default;
-  Action(std::string name, std::function<void()> fn) : name(std::move(name)), fn(std::move(fn)) {}
+struct NoData {};
+
+// An action reads the data its event carries, or ignores it.
+template <typename Data>
+struct BasicAction {
+  BasicAction() = default;
+  BasicAction(std::string name, std::function<void(const Data&)> fn)
+      : name(std::move(name)), fn(std::move(fn)) {}
+  BasicAction(std::string name, std::function<void()> fn)
+      : name(std::move(name)), fn([f = std::move(fn)](const Data&) {
+          if (f) f();
+        }) {}
+  BasicAction(std::string name, std::nullptr_t) : name(std::move(name)) {}  // drawn, does nothing
   std::string name;
-  std::function<void()> fn;  // empty: nothing
-  void operator()() const {
-    if (fn) fn();
+  std::function<void(const Data&)> fn;  // empty: nothing
+  void operator()(const Data& data) const {
+    if (fn) fn(data);
   }
 };
+using Action = BasicAction<NoData>;
 
 inline const Guard kAlways{};
 inline const Action kNone{};
 
-template <typename State, typename Event>
+template <typename State, typename Event, typename Data = NoData>
 class StateMachine {
  public:
+  using Action = BasicAction<Data>;
   struct Row {
     State from;
     Event event;
@@ -61,19 +76,19 @@ class StateMachine {
   StateMachine(std::string name, State initial, std::vector<Row> table)
       : name_(std::move(name)), initial_(initial), state_(initial), table_(std::move(table)) {}
 
-  // Processes one event. Returns true when a transition fired. Events raised by an action (call
-  // Process from inside it) are queued and run after the current transition completes.
-  bool Process(Event event) {
+  // Processes one event with its data. Returns true when a transition fired. Events raised by an
+  // action (call Process from inside it) are queued and run after the current transition.
+  bool Process(Event event, Data data = {}) {
     if (processing_) {
-      queue_.push_back(event);
+      queue_.emplace_back(event, std::move(data));
       return false;
     }
     processing_ = true;
-    bool fired = Dispatch(event);
+    bool fired = Dispatch(event, data);
     while (!queue_.empty()) {
-      const Event next = queue_.front();
+      const std::pair<Event, Data> next = std::move(queue_.front());
       queue_.erase(queue_.begin());
-      Dispatch(next);
+      Dispatch(next.first, next.second);
     }
     processing_ = false;
     return fired;
@@ -116,11 +131,11 @@ class StateMachine {
   }
 
  private:
-  bool Dispatch(Event event) {
+  bool Dispatch(Event event, const Data& data) {
     for (const Row& r : table_) {
       if (r.from != state_ || r.event != event || !r.guard()) continue;
       const State from = state_;
-      r.action();
+      r.action(data);
       state_ = r.to;
       if (log_) log_(name_, {from, event, &r});
       return true;
@@ -135,7 +150,7 @@ class StateMachine {
   std::vector<Row> table_;
   Log log_;
   bool processing_ = false;
-  std::vector<Event> queue_;
+  std::vector<std::pair<Event, Data>> queue_;
 };
 
 }  // namespace dmpl::sc

@@ -28,6 +28,12 @@ enum class GraspEvent {
 };
 const char* ToString(GraspState s);
 const char* ToString(GraspEvent e);
+// What a grasp event carries: why (for the log, the status and the action that handles it) and
+// the finger it is about.
+struct GraspEventData {
+  std::string reason;
+  int finger = -1;  // -1: not about one finger
+};
 
 struct FingerView {
   bool in_contact = false;
@@ -90,7 +96,7 @@ class Supervisor : private RegraspActions {
   const std::vector<std::string>& transitions() const { return transitions_; }
 
  private:
-  using GraspChart = sc::StateMachine<GraspState, GraspEvent>;
+  using GraspChart = sc::StateMachine<GraspState, GraspEvent, GraspEventData>;
   GraspChart BuildGraspChart();
 
   // RegraspActions.

@@ -274,7 +274,8 @@ double ManipulationController::ForceTerm(FingerState* s, const ForceGains& g, do
 
 // One control cycle, in phases: read the sensors, take the task, move the object reference,
 // plan the grip forces, run each finger's primitive, say what happened.
-const ControllerOutput& ManipulationController::Step(const SensedInput& raw, const TaskInput& task) {
+const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
+                                                     const TaskInput& task) {
   out_.events.clear();
   out_.seq = raw.seq;
   const SensedInput in = UndoTactileCalibration(raw);

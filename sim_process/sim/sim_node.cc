@@ -295,7 +295,9 @@ class SimNode : public Node, private SimLoop {
   }
 
   void Finished(const SimControl* stop, bool gave_up) override {
-    if (stop != nullptr) log().info("stop requested ({}) at t = {:.3f} s", stop->reason, sim_.time());
+    if (stop != nullptr) {
+      log().info("stop requested ({}) at t = {:.3f} s", stop->reason, sim_.time());
+    }
     if (gave_up) log().error("giving up after {} lockstep faults", scheduler_.faults());
     PublishStatus();
     const double wall = MonotonicSeconds() - wall_start_;

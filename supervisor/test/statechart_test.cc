@@ -57,6 +57,31 @@ TEST(StateMachineTest, EventsRaisedByAnActionRunAfterTheTransition) {
   EXPECT_TRUE(m.is(S::C));
 }
 
+TEST(StateMachineTest, AnEventsDataReachesTheActionThatFiresEvenWhenQueued) {
+  struct Why {
+    std::string reason;
+    int finger = -1;
+  };
+  std::vector<std::string> heard;
+  StateMachine<S, E, Why>* self = nullptr;
+  using A = StateMachine<S, E, Why>::Action;
+  StateMachine<S, E, Why> m("test", S::A, {
+      {S::A, E::Go, kAlways, A("raise", [&](const Why& w) {
+         heard.push_back(w.reason + " " + std::to_string(w.finger));
+         self->Process(E::Go, {"raised by the action", 2});
+       }), S::B},
+      {S::B, E::Go, kAlways, A("hear", [&](const Why& w) { heard.push_back(w.reason); }), S::C},
+      {S::C, E::Back, kAlways, A("plain", [&] { heard.push_back("no data read"); }), S::A},
+  });
+  self = &m;
+  m.Process(E::Go, {"first", 1});
+  EXPECT_TRUE(m.is(S::C));
+  m.Process(E::Back);
+  EXPECT_EQ(heard, (std::vector<std::string>{"first 1", "raised by the action", "no data read"}));
+  m.Process(E::Back, {"not accepted in A", 3});  // nobody hears an ignored event's data
+  EXPECT_EQ(heard.size(), 3u);
+}
+
 TEST(StateMachineTest, DotAndMermaidDrawEveryRow) {
   StateMachine<S, E> m("test", S::A, {{S::A, E::Go, Guard("g", nullptr), Action("act", nullptr), S::B},
                                       {S::B, E::Back, kAlways, kNone, S::A}});

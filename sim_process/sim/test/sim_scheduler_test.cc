@@ -14,7 +14,9 @@ class RecordingLoop : public SimLoop {
  public:
   void PublishTick(int64_t tick) override { Say("publish " + std::to_string(tick)); }
   void ApplyCommand(const JointCommand& c) override { Say("command " + std::to_string(c.seq)); }
-  void ApplyControl(const SimControl& c) override { Say(std::string("control ") + ToString(c.command)); }
+  void ApplyControl(const SimControl& c) override {
+    Say(std::string("control ") + ToString(c.command));
+  }
   bool StepTo(int64_t tick) override {
     Say("step " + std::to_string(tick));
     return tick >= end_tick;
@@ -25,7 +27,8 @@ class RecordingLoop : public SimLoop {
   }
   void Fault(const std::string& what) override { Say("fault: " + what); }
   void Finished(const SimControl* stop, bool gave_up) override {
-    Say(std::string("finished") + (stop != nullptr ? " by stop" : "") + (gave_up ? " gave up" : ""));
+    Say(std::string("finished") + (stop != nullptr ? " by stop" : "") +
+        (gave_up ? " gave up" : ""));
   }
 
   // The events since the last call.
@@ -61,7 +64,9 @@ SimScheduleParams Lockstep(int delay, bool first_tick_waits = false) {
 
 // Answers ticks from..to (inclusive) in order.
 void Answer(SimScheduler* s, int64_t from, int64_t to, double now = 0) {
-  for (int64_t k = from; k <= to; ++k) ASSERT_EQ(s->OnCommand(Command(k), now), SimScheduler::Verdict::kQueued) << k;
+  for (int64_t k = from; k <= to; ++k) {
+    ASSERT_EQ(s->OnCommand(Command(k), now), SimScheduler::Verdict::kQueued) << k;
+  }
 }
 
 TEST(SimScheduler, LockstepStepsOnceTheDueCommandIsIn) {

@@ -1,0 +1,204 @@
+// Finger gaiting: the regrasp chart's actions (explore, rotate, grip), the steps toward the goal
+// and the goal orientations.
+#include "supervisor/supervisor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
+
+#include "components/runtime/check.h"
+
+namespace dmpl {
+
+namespace {
+
+std::string Fixed(double value, int digits = 2) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << value;
+  return os.str();
+}
+
+}  // namespace
+
+void Supervisor::StartGoals() {
+  std::vector<Eigen::Quaterniond> goals;
+  for (const OrientationParam& g : task_params_.goals) goals.push_back(g.q);
+  const Eigen::Quaterniond from = goals.empty() ? SensedOrientation() : goals.back();
+  for (const auto& q : RandomGoals(seed_, task_params_.random_goals,
+                                   task_params_.random_goal_separation_rad, from)) {
+    goals.push_back(q);
+  }
+  goals_ = GoalSequence(std::move(goals), task_params_.goal_tolerance_rad,
+                        task_params_.goal_hold_s, task_params_.goal_timeout_s);
+  goals_.Start(now_);
+}
+
+void Supervisor::RotateGoal(const Eigen::Vector3d& axis, double angle) {
+  goal_.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * goal_.linear();
+  has_goal_ = true;
+  rotation_commanded_ += angle * axis.dot(Axis("task"));
+  out_.task.has_object_target = true;
+  out_.task.object_target = goal_;
+  out_.task.max_angular_speed = StepSpeed();
+  motion_done_event_ = false;
+}
+
+double Supervisor::StepSpeed() const {
+  const double overlap = task_params_.overlap_angular_speed;
+  return regrasp_.exploring() && regrasp_.overlapping() && overlap > 0
+             ? overlap
+             : task_params_.angular_speed;
+}
+
+void Supervisor::Explore(const std::string& finger) {
+  const int f = Finger(finger);
+  explorer_ = f;
+  phase_since_ = now_;
+  reached_[f] = false;
+  // Back against the rotation to where the finger can follow the steps it turns with until it
+  // explores again (all of them, or all but its own): half of them behind its home, half ahead, so
+  // it never drifts to its joint limits.
+  // Toward a goal orientation the steps turn about the axis to it (positive angles).
+  const bool to_goal = task_params_.has_goals();
+  const double sign = to_goal || task_params_.angle >= 0 ? 1.0 : -1.0;
+  const Eigen::Vector3d axis = StepAxis();
+  const double n = static_cast<double>(fingers_.size());
+  // With four the explorer rides every step; when the others turn while it slides, all but one.
+  const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers ||
+                    (regrasp_.turn() == RegraspChart::Turn::kAuto && !regrasp_.overlapping());
+  const double rides = four ? n : n - 1;
+  const double back = -sign * task_params_.explore_travel * rides * task_params_.step / 2.0;
+  const Eigen::AngleAxisd turn(back, axis);
+  explore_target_ = view_.object.translation() + turn * (home_[f] - home_centre_);
+  NewTask(regrasp_.last_action());
+  for (size_t k = 0; k < fingers_.size(); ++k) {
+    if (static_cast<int>(k) == f) {
+      SetFinger(f, Role::kExplore, Primitive::kHybrid, &explore_target_, task_params_.explore_force_n);
+    } else {
+      SetFinger(static_cast<int>(k), Role::kGrip, Primitive::kComposite);
+    }
+  }
+  out_.task.has_object_target = has_goal_;
+  out_.task.object_target = goal_;
+}
+
+void Supervisor::Rotate(const std::string& grippers) {
+  (void)grippers;  // the explorer, if any, keeps exploring in place; the others grip
+  phase_since_ = now_;
+  NewTask(regrasp_.last_action());
+  if (task_params_.has_goals()) {
+    // One step from where the object is toward the current goal, the shortest way.
+    const AxisAngle to_goal = RotationToGoal(SensedOrientation(), goals_.current());
+    step_ = std::min(task_params_.step, to_goal.angle);
+    goal_.linear() =
+        (Eigen::AngleAxisd(step_, to_goal.axis) * SensedOrientation()).toRotationMatrix();
+    has_goal_ = true;
+    rotation_commanded_ += step_;
+    out_.task.has_object_target = true;
+    out_.task.object_target = goal_;
+    out_.task.max_angular_speed = StepSpeed();
+    motion_done_event_ = false;
+    return;
+  }
+  const double remaining = rotation_goal_ - rotation_commanded_;
+  step_ = std::copysign(std::min(task_params_.step, std::abs(remaining)), remaining);
+  RotateGoal(Axis("task"), step_);
+}
+
+void Supervisor::Grip(const std::string& finger) {
+  phase_since_ = now_;
+  explorer_ = -1;
+  NewTask(regrasp_.last_action());
+  SetFinger(Finger(finger), Role::kGrip, Primitive::kComposite);
+}
+
+void Supervisor::Finish() { gait_done_ = true; }
+
+Eigen::Vector3d Supervisor::StepAxis() const {
+  return task_params_.has_goals() ? RotationToGoal(SensedOrientation(), goals_.current()).axis
+                                  : Axis("task");
+}
+
+bool Supervisor::CanTurnWithout(const std::string& /*finger*/) const {
+  // The fingers stand around one axis of the palm (gait.overlap_about): about it, any three of
+  // them turn the object while the fourth slides back; about an axis tilted from it they push
+  // the object along that axis too, which needs the fourth's support (measured: three alone
+  // lose the object about y, z and the diagonal; four turn it).
+  const Eigen::Vector3d about(tasks_.gait.overlap_about[0], tasks_.gait.overlap_about[1],
+                              tasks_.gait.overlap_about[2]);
+  const double cos_tilt = std::abs(StepAxis().dot(about.normalized()));
+  return cos_tilt >= std::cos(tasks_.gait.overlap_max_tilt_rad);
+}
+
+bool Supervisor::GoalReached() const {
+  if (task_params_.has_goals()) return goals_.complete();
+  return std::abs(rotation_goal_ - rotation_commanded_) < 1e-9;
+}
+
+bool Supervisor::StepDone(double in_phase) const {
+  // The reference needs |step| / speed to arrive; after that and a moment to settle, an object
+  // close enough to its goal has done its step.
+  const GaitSpec& g = tasks_.gait;
+  const double travel = std::abs(step_) / StepSpeed();
+  const bool settled = in_phase > travel + g.settle_time_s &&
+                       view_.tracking_error_rad < g.settle_tolerance_rad;
+  return motion_done_event_ || view_.motion_done || settled;
+}
+
+void Supervisor::TickGoals() {
+  switch (goals_.Update(now_, SensedOrientation())) {
+    case GoalSequence::Event::kReached:
+      Note("goal " + std::to_string(goals_.reached()) + " of " + std::to_string(goals_.size()) +
+           " reached in " + Fixed(goals_.times_s().back()) + " s");
+      if (goals_.complete()) gait_done_ = true;
+      break;
+    case GoalSequence::Event::kTimedOut:
+      grasp_.Process(GraspEvent::TaskFailed,
+                     {"goal " + std::to_string(goals_.reached() + 1) + " not reached within " +
+                      Fixed(task_params_.goal_timeout_s, 1) + " s (" + Fixed(goals_.error_rad()) +
+                      " rad from it)"});
+      break;
+    case GoalSequence::Event::kNone:
+      break;
+  }
+}
+
+void Supervisor::TickGait() {
+  const GaitSpec& g = tasks_.gait;
+  const double in_phase = now_ - phase_since_;
+  if (task_params_.has_goals()) {
+    TickGoals();
+    if (!grasp_.is(GraspState::Tasks)) return;
+  }
+  if (regrasp_.exploring()) {
+    const bool there = explorer_ >= 0 && reached_[explorer_] && view_.fingers[explorer_].in_contact;
+    // Continuous: the three turn the object while the explorer slides; both must be done.
+    const bool turned = !regrasp_.overlapping() || StepDone(in_phase);
+    if ((there && turned) || in_phase > g.explore_timeout_s) {
+      if (!there) Note("explorer " + fingers_[explorer_] + " did not reach its point in time");
+      if (!turned) Note("the step did not finish while the explorer slid");
+      regrasp_.Process(RegraspEvent::ExploreReady);
+    }
+  } else if (regrasp_.rotating()) {
+    if (StepDone(in_phase)) {
+      if (!(motion_done_event_ || view_.motion_done)) {
+        Note("step settled " + std::to_string(view_.tracking_error_rad) + " rad short");
+      }
+      regrasp_.Process(RegraspEvent::RotateDone);
+    } else if (in_phase > g.rotate_timeout_s) {
+      grasp_.Process(GraspEvent::Slip, {"a rotation step did not finish within " +
+                                        std::to_string(g.rotate_timeout_s) + " s"});
+    }
+  } else {
+    // Gripping: wait for a stable grasp (at least a moment after the role change).
+    if ((view_.grasp_stable && in_phase > 0.05) || in_phase > g.grip_timeout_s) {
+      if (!view_.grasp_stable) Note("no stable grasp within the grip timeout; going on");
+      regrasp_.Process(RegraspEvent::GripStable);
+    }
+  }
+  if (gait_done_) grasp_.Process(GraspEvent::TaskDone);
+}
+
+}  // namespace dmpl
