@@ -33,7 +33,7 @@ class ControllerNode : public Node {
         wait_for_task_(params.wait_for_task),
         model_(std::move(model)),
         kin_(model_),
-        core_(kin_, params, 0.001),
+        core_(kin_, params, ctx.run.tick_s),
         report_period_(params.report_period_ticks),
         gate_(MakeGate(params.wait_for_task, params.report_period_ticks,
                        ctx.run.resend_after_s > 0)) {

@@ -32,6 +32,7 @@ class IkNode : public Node {
     status_.num_fingers = static_cast<int8_t>(kin_.num_fingers());
     status_.fingers.resize(kin_.num_fingers());
     for (int f = 0; f < kin_.num_fingers(); ++f) status_.fingers[f].finger = kin_.finger(f).name();
+    last_status_.assign(kin_.num_fingers(), -1);
     KeepForResend(ctx.run, 4);
     Subscribe(channels::kFingerTargets, &IkNode::OnTargets, this);
   }
@@ -135,7 +136,7 @@ class IkNode : public Node {
   std::vector<finger_targets_t> ready_;
   joint_cmd_t cmd_{};
   ik_status_t status_{};
-  std::vector<int8_t> last_status_ = std::vector<int8_t>(8, -1);
+  std::vector<int8_t> last_status_;  // per finger: the status last published
   int64_t rejected_ = 0;
 };
 

@@ -24,6 +24,8 @@ struct RunParams {
   double heartbeat_period_s = 0.25;
   std::vector<std::string> lockstep_participants = {"dmpl_noise", "dmpl_ik", "dmpl_controller"};
   std::string record = "full";     // what the run's log keeps: full, analysis or none (tools)
+  double tick_s = 0.001;           // the loop's period, one simulator tick: the controller's
+                                   // control period (the simulator checks it against its step)
   double view_rate_hz = 30.0;      // DMPL_VIEW_TRUTH / _SENSED for viewers (sim time); 0: none
   bool respawn = false;            // the launcher restarts a process that dies (tools)
   int64_t run_id = 0;              // this run's identity (tools/dmpl run draws one): messages
@@ -41,10 +43,13 @@ struct RunParams {
     a->Visit(DMPL_NVP(heartbeat_period_s));
     a->Visit(DMPL_NVP(lockstep_participants));
     a->Visit(DMPL_NVP(record));
+    a->Visit(DMPL_NVP(tick_s));
     a->Visit(DMPL_NVP(view_rate_hz));
     a->Visit(DMPL_NVP(respawn));
     a->Visit(DMPL_NVP(run_id));
   }
+  // Throws ConfigError naming `source` and the key.
+  void Validate(const std::string& source) const;
 };
 
 // Decimates a stream by its sim time: true once per 1 / rate_hz of it (never for rate_hz <= 0).

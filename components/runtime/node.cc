@@ -213,6 +213,7 @@ int RunNodeMain(int argc, char** argv, const NodeInfo& info) {
     ctx.name = cl.name.empty() ? default_name : cl.name;
     ctx.config = Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
     ctx.config.Load("run", &ctx.run);
+    ctx.run.Validate(ctx.config.source());
   } catch (const std::exception& e) {
     std::cerr << default_name << ": " << e.what() << "\n";
     return 2;

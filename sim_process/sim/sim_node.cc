@@ -402,6 +402,14 @@ std::unique_ptr<Node> MakeSimNode(const NodeContext& ctx) {
   ctx.config.Load("object", &object);
   sim.Validate(ctx.config.source());
   object.Validate(ctx.config.source());
+  // Every node takes the loop's period from run.tick_s: it must be this simulator's tick.
+  const double tick_s = sim.physics.time_step * sim.steps_per_tick;
+  if (std::abs(ctx.run.tick_s - tick_s) > 1e-9 * tick_s) {
+    throw ConfigError("config error in " + ctx.config.source() + ": key 'run.tick_s': " +
+                      std::to_string(ctx.run.tick_s) + " s, but the simulator's tick " +
+                      "(sim.physics.time_step x sim.steps_per_tick) is " +
+                      std::to_string(tick_s) + " s");
+  }
   return std::make_unique<SimNode>(ctx, HandModel::Load(hand), sim, object);
 }
 

@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     }
     ctx.config = dmpl::Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
     ctx.config.Load("run", &ctx.run);
+    ctx.run.Validate(ctx.config.source());
     record.policy = dmpl::ParseRecordPolicy(policy.empty() ? ctx.run.record : policy);
     if (record.log_path.empty()) record.policy = dmpl::RecordPolicy::kNone;
   } catch (const std::exception& e) {
