@@ -1,5 +1,7 @@
 #include "components/kinematics/hand_kinematics.h"
 
+#include <sstream>
+
 #include <kdl/tree.hpp>
 
 #include "components/kinematics/urdf_to_kdl.h"
@@ -73,9 +75,10 @@ std::string HandKinematics::OutOfLimits(const std::vector<double>& q, double mar
     for (int j = 0; j < finger.num_joints(); ++j) {
       const double v = q[joint_indices_[f][j]];
       if (v < finger.lower()[j] - margin_rad || v > finger.upper()[j] + margin_rad) {
-        return finger.name() + " joint " + std::to_string(j) + " at " + std::to_string(v) +
-               " rad, outside [" + std::to_string(finger.lower()[j]) + ", " +
-               std::to_string(finger.upper()[j]) + "]";
+        std::ostringstream os;  // %g: an absurd value stays one short number
+        os << finger.name() << " joint " << j << " at " << v << " rad, outside ["
+           << finger.lower()[j] << ", " << finger.upper()[j] << "]";
+        return os.str();
       }
     }
   }
