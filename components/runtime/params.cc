@@ -92,11 +92,42 @@ void YamlReadArchive::Read(const YAML::Node& n, const std::string& path, std::st
   *v = n.Scalar();
 }
 
+namespace {
+
+// Whether `text` is UTF-8 without NUL: what a YAML file is (a binary given by mistake is not).
+bool IsUtf8Text(const std::string& text) {
+  size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    // The bytes that follow a lead byte: 0 (ASCII), 1 (110xxxxx), 2 (1110xxxx), 3 (11110xxx).
+    const int follow = c < 0x80          ? 0
+                       : (c >> 5) == 0x6  ? 1
+                       : (c >> 4) == 0xe  ? 2
+                       : (c >> 3) == 0x1e ? 3
+                                          : -1;
+    if (c == 0 || follow < 0 || text.size() - i <= static_cast<size_t>(follow)) return false;
+    for (int k = 1; k <= follow; ++k) {
+      if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return false;
+    }
+    i += follow + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
 YAML::Node LoadYamlFile(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError("config error: cannot open file '" + path + "'");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  const std::string text = bytes.str();
+  if (!IsUtf8Text(text)) {
+    throw ConfigError("config error in " + path +
+                      ": not a YAML text file (it holds bytes that are not UTF-8 text)");
+  }
   try {
-    YAML::Node node = YAML::Load(in);
+    YAML::Node node = YAML::Load(text);
     if (node.IsNull()) return YAML::Node(YAML::NodeType::Map);
     return node;
   } catch (const YAML::ParserException& e) {

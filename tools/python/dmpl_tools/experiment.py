@@ -1,20 +1,17 @@
-"""Experiment configs: load, overlay --params files, apply --set, check, write the resolved file.
+"""Experiment configs: resolve, check, write the resolved file.
 
-The semantics match the C++ runtime (components/runtime/params.cc): --set key.path=value parses
-value as YAML and creates intermediate maps; --params files are merged map by map.
+Resolving (the `experiment.base` chain, --params overlays, --set overrides, the known sections)
+is the C++ runtime's (components/runtime/config.cc), run by `dmpl_config`: the rules are written
+once, and the tools read exactly what every node reads. What only the tools read is checked
+here: `experiment`, `metrics`, `processes`.
 """
 import copy
 import re
 import subprocess
-from pathlib import Path
 
 import yaml
 
 from .paths import executable
-
-# Sections a config may have (components/runtime/config.cc keeps the same list).
-KNOWN_SECTIONS = {"run", "hand", "sim", "object", "noise", "ik", "controller", "supervisor",
-                  "task", "experiment", "processes", "joint_player", "metrics", "calibration"}
 
 EXPERIMENT_KEYS = {"name": str, "description": str, "timeout_s": (int, float), "base": str}
 METRICS_DEFAULTS = {
@@ -29,38 +26,6 @@ METRICS_DEFAULTS = {
 
 class ExperimentError(Exception):
     pass
-
-
-def merge(base, overlay):
-    """Overlays `overlay` onto `base` in place: maps key by key, anything else replaces."""
-    for key, value in overlay.items():
-        if isinstance(value, dict) and isinstance(base.get(key), dict):
-            merge(base[key], value)
-        else:
-            base[key] = copy.deepcopy(value)
-    return base
-
-
-def apply_set(config, assignment):
-    key, sep, text = assignment.partition("=")
-    if not sep or not key:
-        raise ExperimentError(f"--set expects key=value, got '{assignment}'")
-    try:
-        value = yaml.safe_load(text) if text != "" else ""
-    except yaml.YAMLError:
-        raise ExperimentError(f"--set {key}: cannot parse value '{text}'") from None
-    parts = key.split(".")
-    if any(not p for p in parts):
-        raise ExperimentError(f"--set: empty part in key '{key}'")
-    node = config
-    for p in parts[:-1]:
-        child = node.get(p)
-        if child is None:
-            child = node[p] = {}
-        elif not isinstance(child, dict):
-            raise ExperimentError(f"--set {key}: '{p}' is not a map")
-        node = child
-    node[parts[-1]] = value
 
 
 def load_yaml(path):
@@ -81,38 +46,34 @@ def load_yaml(path):
     return data
 
 
-def load_with_base(path, depth=0):
-    """An experiment may build on another: `experiment: {base: other.yaml}` (relative to it)."""
-    config = load_yaml(path)
-    base = config.get("experiment", {}).get("base") if isinstance(config.get("experiment"), dict) else None
-    if not base:
-        return config
-    if depth > 8:
-        raise ExperimentError(f"{path}: experiment.base nests too deep")
-    del config["experiment"]["base"]
-    return merge(load_with_base(Path(path).parent / base, depth + 1), config)
-
-
 def resolve(path, params_files=(), sets=(), seed=None):
     """Returns the resolved experiment config (a dict)."""
-    config = load_with_base(path)
+    args = [executable("dmpl_config"), "--config", str(path)]
     for p in params_files:
-        merge(config, load_yaml(p))
+        args += ["--params", str(p)]
     for s in sets:
-        apply_set(config, s)
+        args += ["--set", s]
     if seed is not None:
-        config.setdefault("run", {})["seed"] = int(seed)
-    unknown = set(config) - KNOWN_SECTIONS
-    if unknown:
-        raise ExperimentError(f"{path}: unknown section(s) {', '.join(sorted(unknown))}; known: "
-                              f"{', '.join(sorted(KNOWN_SECTIONS))}")
+        args += ["--set", f"run.seed={int(seed)}"]
+    try:
+        r = subprocess.run(args, capture_output=True, text=True, errors="replace", timeout=60)
+    except FileNotFoundError as e:
+        raise ExperimentError(str(e)) from None
+    if r.returncode != 0:
+        said = (r.stderr.strip().splitlines() or [f"dmpl_config failed ({r.returncode})"])[-1]
+        raise ExperimentError(said + _from_set(said, sets))
+    config = yaml.safe_load(r.stdout) or {}
     exp = config.setdefault("experiment", {})
+    if not isinstance(exp, dict):
+        raise ExperimentError(f"{path}: 'experiment' must be a map")
     for key, value in exp.items():
         if key not in EXPERIMENT_KEYS or not isinstance(value, EXPERIMENT_KEYS[key]):
             raise ExperimentError(f"{path}: bad key 'experiment.{key}' (known: "
                                   f"{', '.join(EXPERIMENT_KEYS)})")
     exp.setdefault("name", str(path).rsplit("/", 1)[-1].rsplit(".", 1)[0])
     metrics = config.setdefault("metrics", {})
+    if not isinstance(metrics, dict):
+        raise ExperimentError(f"{path}: 'metrics' must be a map")
     for key, value in metrics.items():
         if key not in METRICS_DEFAULTS:
             raise ExperimentError(f"{path}: unknown key 'metrics.{key}' (known: "
