@@ -231,6 +231,7 @@ Loaded Load(const Config& config) {
   config.Load("task", &l.task_params);
   config.Load("supervisor", &l.params);
   l.task_params.Validate(config.source());
+  l.params.Validate(config.source());
   for (const auto& f : hand.fingers) l.fingers.push_back(f.name);
   l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
   return l;

@@ -43,17 +43,17 @@ struct TaskParams {
     a->Visit(DMPL_NVP(axis));
     a->Visit(DMPL_NVP(angle));
     a->Visit(DMPL_NVP(goals));
-    a->Visit(DMPL_NVP(random_goals));
-    a->Visit(DMPL_NVP(random_goal_separation_rad));
-    a->Visit(DMPL_NVP(goal_tolerance_rad));
-    a->Visit(DMPL_NVP(goal_hold_s));
+    a->Visit(DMPL_NVP(random_goals), InRange(0, 100000));
+    a->Visit(DMPL_NVP(random_goal_separation_rad), InRange(0, 3));
+    a->Visit(DMPL_NVP(goal_tolerance_rad), AboveUpTo(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(goal_hold_s), AtLeast(0));
     a->Visit(DMPL_NVP(goal_timeout_s));
-    a->Visit(DMPL_NVP(step));
+    a->Visit(DMPL_NVP(step), AboveUpTo(0, 1));
     a->Visit(DMPL_NVP(turn));
-    a->Visit(DMPL_NVP(angular_speed));
-    a->Visit(DMPL_NVP(overlap_angular_speed));
-    a->Visit(DMPL_NVP(explore_force_n));
-    a->Visit(DMPL_NVP(explore_travel));
+    a->Visit(DMPL_NVP(angular_speed), Above(0));
+    a->Visit(DMPL_NVP(overlap_angular_speed), AtLeast(0));
+    a->Visit(DMPL_NVP(explore_force_n), AtLeast(0));
+    a->Visit(DMPL_NVP(explore_travel), AtLeast(0));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations
@@ -72,12 +72,13 @@ struct SupervisorParams {
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(required_processes));
-    a->Visit(DMPL_NVP(heartbeat_timeout_s));
-    a->Visit(DMPL_NVP(max_recoveries));
-    a->Visit(DMPL_NVP(recovery_timeout_s));
-    a->Visit(DMPL_NVP(stop_after_s));
-    a->Visit(DMPL_NVP(status_every_ticks));
+    a->Visit(DMPL_NVP(heartbeat_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(max_recoveries), AtLeast(0));
+    a->Visit(DMPL_NVP(recovery_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(stop_after_s), AtLeast(0));
+    a->Visit(DMPL_NVP(status_every_ticks), AtLeast(1));
   }
+  void Validate(const std::string& source) const { CheckBounds(*this, source, "supervisor"); }
 };
 
 }  // namespace dmpl

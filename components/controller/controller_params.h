@@ -14,9 +14,9 @@ struct ForceGains {
   double integral_limit = 0.015;  // m: anti-windup (the force term never pushes further than this)
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(kp));
-    a->Visit(DMPL_NVP(ki));
-    a->Visit(DMPL_NVP(integral_limit));
+    a->Visit(DMPL_NVP(kp), AtLeast(0));
+    a->Visit(DMPL_NVP(ki), AtLeast(0));
+    a->Visit(DMPL_NVP(integral_limit), Above(0));
   }
 };
 
@@ -36,8 +36,8 @@ struct NormalsAimParams {
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(enabled));
-    a->Visit(DMPL_NVP(min_contacts));
-    a->Visit(DMPL_NVP(balance_weight));
+    a->Visit(DMPL_NVP(min_contacts), AtLeast(2));
+    a->Visit(DMPL_NVP(balance_weight), Above(0));
     a->Visit(DMPL_NVP(max_force_n));
   }
 };
@@ -107,7 +107,7 @@ struct ControllerParams {
 
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(position_gain));
+    a->Visit(DMPL_NVP(position_gain), InRange(0, 2));
     a->Visit(DMPL_NVP(position_integral_gain));
     a->Visit(DMPL_NVP(translation_gain));
     a->Visit(DMPL_NVP(translation_integral_gain));
@@ -115,13 +115,13 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(translation_force_gain));
     a->Visit(DMPL_NVP(max_translation_force_n));
     a->Visit(DMPL_NVP(rolling_feedforward));
-    a->Visit(DMPL_NVP(max_linear_speed));
-    a->Visit(DMPL_NVP(max_angular_speed));
-    a->Visit(DMPL_NVP(object_position_time_constant_s));
-    a->Visit(DMPL_NVP(object_orientation_time_constant_s));
-    a->Visit(DMPL_NVP(grip_force_n));
-    a->Visit(DMPL_NVP(min_grip_force_n));
-    a->Visit(DMPL_NVP(explore_force_n));
+    a->Visit(DMPL_NVP(max_linear_speed), Above(0));
+    a->Visit(DMPL_NVP(max_angular_speed), Above(0));
+    a->Visit(DMPL_NVP(object_position_time_constant_s), AtLeast(0));
+    a->Visit(DMPL_NVP(object_orientation_time_constant_s), AtLeast(0));
+    a->Visit(DMPL_NVP(grip_force_n), Above(0));
+    a->Visit(DMPL_NVP(min_grip_force_n), AtLeast(0));
+    a->Visit(DMPL_NVP(explore_force_n), AtLeast(0));
     a->Visit(DMPL_NVP(role_change_s));
     a->Visit(DMPL_NVP(grip_adaptation));
     a->Visit(DMPL_NVP(normals_aim));
@@ -130,20 +130,20 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));
-    a->Visit(DMPL_NVP(hybrid_max_speed));
-    a->Visit(DMPL_NVP(approach_speed));
+    a->Visit(DMPL_NVP(hybrid_max_speed), Above(0));
+    a->Visit(DMPL_NVP(approach_speed), Above(0));
     a->Visit(DMPL_NVP(target_tolerance_m));
     a->Visit(DMPL_NVP(contact_threshold_n));
-    a->Visit(DMPL_NVP(contact_debounce_ticks));
-    a->Visit(DMPL_NVP(contact_loss_ticks));
+    a->Visit(DMPL_NVP(contact_debounce_ticks), AtLeast(1));
+    a->Visit(DMPL_NVP(contact_loss_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(motion_done_rad));
     a->Visit(DMPL_NVP(motion_done_m));
     a->Visit(DMPL_NVP(tracking_error_rad));
     a->Visit(DMPL_NVP(stable_force_tolerance));
     a->Visit(DMPL_NVP(stable_hold_s));
     a->Visit(DMPL_NVP(wait_for_task));
-    a->Visit(DMPL_NVP(report_period_ticks));
-    a->Visit(DMPL_NVP(tactile_force_scale));
+    a->Visit(DMPL_NVP(report_period_ticks), InRange(1, 1000));
+    a->Visit(DMPL_NVP(tactile_force_scale), Above(0));
     a->Visit(DMPL_NVP(tactile_force_bias));
     a->Visit(DMPL_NVP(tactile_position_offset));
     a->Visit(DMPL_NVP(use_surface_centre));

@@ -35,11 +35,11 @@ struct GripAdaptationParams {
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(enabled));
-    a->Visit(DMPL_NVP(slip_speed_m_per_s));
-    a->Visit(DMPL_NVP(slip_time_constant_s));
-    a->Visit(DMPL_NVP(slip_window_s));
-    a->Visit(DMPL_NVP(raise_factor));
-    a->Visit(DMPL_NVP(refractory_s));
+    a->Visit(DMPL_NVP(slip_speed_m_per_s), Above(0));
+    a->Visit(DMPL_NVP(slip_time_constant_s), AtLeast(0));
+    a->Visit(DMPL_NVP(slip_window_s), Above(0));
+    a->Visit(DMPL_NVP(raise_factor), InRange(1, 3));
+    a->Visit(DMPL_NVP(refractory_s), AtLeast(0));
     a->Visit(DMPL_NVP(max_grip_force_n));
     a->Visit(DMPL_NVP(share_explorer_load));
   }

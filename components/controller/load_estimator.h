@@ -35,13 +35,13 @@ struct LoadParams {
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(enabled));
-    a->Visit(DMPL_NVP(proportional_gain));
-    a->Visit(DMPL_NVP(integral_gain));
-    a->Visit(DMPL_NVP(deadband_m));
-    a->Visit(DMPL_NVP(reference_follow_s));
-    a->Visit(DMPL_NVP(max_load_n));
-    a->Visit(DMPL_NVP(max_net_force_n));
-    a->Visit(DMPL_NVP(friction_assumed));
+    a->Visit(DMPL_NVP(proportional_gain), AtLeast(0));
+    a->Visit(DMPL_NVP(integral_gain), AtLeast(0));
+    a->Visit(DMPL_NVP(deadband_m), AtLeast(0));
+    a->Visit(DMPL_NVP(reference_follow_s), AtLeast(0));
+    a->Visit(DMPL_NVP(max_load_n), AtLeast(0));
+    a->Visit(DMPL_NVP(max_net_force_n), AtLeast(0));
+    a->Visit(DMPL_NVP(friction_assumed), AtLeast(0));
   }
 };
 

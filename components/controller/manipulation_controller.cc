@@ -17,45 +17,16 @@ Eigen::Vector3d ClampNorm(const Eigen::Vector3d& v, double max_norm) {
 
 }  // namespace
 
+// The bounds of single keys are declared beside them (controller_params.h); what relates two
+// keys is checked here.
 void ControllerParams::Validate(const std::string& source) const {
+  CheckBounds(*this, source, "controller");
   auto fail = [&](const std::string& key, const std::string& what) {
     throw ConfigError("config error in " + source + ": key 'controller." + key + "': " + what);
   };
-  if (position_gain < 0 || position_gain > 2) fail("position_gain", "must be in [0, 2]");
-  if (report_period_ticks < 1 || report_period_ticks > 1000) {
-    fail("report_period_ticks", "must be in [1, 1000]");
-  }
-  if (!(max_linear_speed > 0)) fail("max_linear_speed", "must be > 0");
-  if (!(max_angular_speed > 0)) fail("max_angular_speed", "must be > 0");
-  if (object_position_time_constant_s < 0) fail("object_position_time_constant_s", "must be >= 0");
-  if (object_orientation_time_constant_s < 0) {
-    fail("object_orientation_time_constant_s", "must be >= 0");
-  }
-  if (!(grip_force_n > 0)) fail("grip_force_n", "must be > 0");
-  if (min_grip_force_n < 0 || min_grip_force_n > grip_force_n) {
-    fail("min_grip_force_n", "must be in [0, grip_force_n]");
-  }
-  if (explore_force_n < 0) fail("explore_force_n", "must be >= 0");
-  const GripAdaptationParams& adapt = grip_adaptation;
-  if (!(adapt.slip_speed_m_per_s > 0) || adapt.slip_time_constant_s < 0 ||
-      !(adapt.slip_window_s > 0) || adapt.refractory_s < 0) {
-    fail("grip_adaptation", "slip_speed_m_per_s and slip_window_s must be > 0, "
-                            "slip_time_constant_s and refractory_s >= 0");
-  }
-  if (!(adapt.raise_factor >= 1.0 && adapt.raise_factor <= 3.0)) {
-    fail("grip_adaptation.raise_factor", "must be in [1, 3]");
-  }
-  if (!(adapt.max_grip_force_n >= grip_force_n)) {
+  if (min_grip_force_n > grip_force_n) fail("min_grip_force_n", "must be <= grip_force_n");
+  if (!(grip_adaptation.max_grip_force_n >= grip_force_n)) {
     fail("grip_adaptation.max_grip_force_n", "must be >= grip_force_n");
-  }
-  if (load.proportional_gain < 0 || load.integral_gain < 0 || load.deadband_m < 0 ||
-      load.reference_follow_s < 0 || load.max_load_n < 0 || load.max_net_force_n < 0 ||
-      load.friction_assumed < 0) {
-    fail("load", "gains, deadband_m, reference_follow_s, max_load_n, max_net_force_n and "
-                 "friction_assumed must be >= 0");
-  }
-  if (normals_aim.min_contacts < 2 || !(normals_aim.balance_weight > 0)) {
-    fail("normals_aim", "min_contacts must be >= 2 and balance_weight > 0");
   }
   if (!(normals_aim.max_force_n >= grip_force_n)) {
     fail("normals_aim.max_force_n", "must be >= grip_force_n");
@@ -64,16 +35,6 @@ void ControllerParams::Validate(const std::string& source) const {
         0)) {
     fail("gravity_direction", "must not be zero");
   }
-  for (const auto& [key, g] : {std::pair{"force", force}, {"explore_force", explore_force}}) {
-    if (g.kp < 0 || g.ki < 0 || !(g.integral_limit > 0)) {
-      fail(key, "kp, ki must be >= 0 and integral_limit > 0");
-    }
-  }
-  if (contact_debounce_ticks < 1 || contact_loss_ticks < 1) {
-    fail("contact_debounce_ticks", "debounce and loss ticks must be >= 1");
-  }
-  if (!(approach_speed > 0) || !(hybrid_max_speed > 0)) fail("approach_speed", "speeds must be > 0");
-  if (!(tactile_force_scale > 0)) fail("tactile_force_scale", "must be > 0");
 }
 
 ManipulationController::ManipulationController(const HandKinematics& kinematics,

@@ -4,17 +4,6 @@
 
 namespace dmpl {
 
-void IkParams::Validate(const std::string& source) const {
-  auto fail = [&](const std::string& key, const std::string& what) {
-    throw ConfigError("config error in " + source + ": key 'ik." + key + "': " + what);
-  };
-  if (!(tolerance_m > 0)) fail("tolerance_m", "must be > 0");
-  if (max_iterations < 1) fail("max_iterations", "must be >= 1");
-  if (damping_m < 0) fail("damping_m", "must be >= 0");
-  if (!(max_joint_step_rad > 0)) fail("max_joint_step_rad", "must be > 0");
-  if (restarts < 0) fail("restarts", "must be >= 0");
-}
-
 namespace {
 
 IkResult SolveFrom(const FingerKinematics& finger, const Eigen::VectorXd& seed,

@@ -14,14 +14,14 @@ struct IkParams {
 
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(tolerance_m));
-    a->Visit(DMPL_NVP(max_iterations));
-    a->Visit(DMPL_NVP(damping_m));
-    a->Visit(DMPL_NVP(nullspace_gain));
-    a->Visit(DMPL_NVP(max_joint_step_rad));
-    a->Visit(DMPL_NVP(restarts));
+    a->Visit(DMPL_NVP(tolerance_m), Above(0));
+    a->Visit(DMPL_NVP(max_iterations), AtLeast(1));
+    a->Visit(DMPL_NVP(damping_m), AtLeast(0));
+    a->Visit(DMPL_NVP(nullspace_gain), AtLeast(0));
+    a->Visit(DMPL_NVP(max_joint_step_rad), Above(0));
+    a->Visit(DMPL_NVP(restarts), AtLeast(0));
   }
-  void Validate(const std::string& source) const;
+  void Validate(const std::string& source) const { CheckBounds(*this, source, "ik"); }
 };
 
 }  // namespace dmpl

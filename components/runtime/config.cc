@@ -66,18 +66,6 @@ Config Config::Resolve(const std::string& file, const std::vector<std::string>& 
   return config;
 }
 
-void RunParams::Validate(const std::string& source) const {
-  auto fail = [&](const std::string& key, const std::string& what) {
-    throw ConfigError("config error in " + source + ": key 'run." + key + "': " + what);
-  };
-  if (!(tick_s > 0 && tick_s <= 0.1)) fail("tick_s", "must be in (0, 0.1] s");
-  if (!(tick_timeout_s > 0)) fail("tick_timeout_s", "must be > 0");
-  if (max_tick_faults < 1) fail("max_tick_faults", "must be >= 1");
-  if (resend_after_s < 0) fail("resend_after_s", "must be >= 0");
-  if (!(heartbeat_period_s > 0)) fail("heartbeat_period_s", "must be > 0");
-  if (view_rate_hz < 0) fail("view_rate_hz", "must be >= 0");
-}
-
 std::string ResolveLcmUrl(const std::string& cli_url, const RunParams& run) {
   if (!cli_url.empty()) return cli_url;
   if (!run.lcm_url.empty()) return run.lcm_url;

@@ -37,19 +37,18 @@ struct RunParams {
     a->Visit(DMPL_NVP(seed));
     a->Visit(DMPL_NVP(lockstep));
     a->Visit(DMPL_NVP(channel_buses));
-    a->Visit(DMPL_NVP(tick_timeout_s));
-    a->Visit(DMPL_NVP(max_tick_faults));
-    a->Visit(DMPL_NVP(resend_after_s));
-    a->Visit(DMPL_NVP(heartbeat_period_s));
+    a->Visit(DMPL_NVP(tick_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(max_tick_faults), AtLeast(1));
+    a->Visit(DMPL_NVP(resend_after_s), AtLeast(0));
+    a->Visit(DMPL_NVP(heartbeat_period_s), Above(0));
     a->Visit(DMPL_NVP(lockstep_participants));
     a->Visit(DMPL_NVP(record));
-    a->Visit(DMPL_NVP(tick_s));
-    a->Visit(DMPL_NVP(view_rate_hz));
+    a->Visit(DMPL_NVP(tick_s), AboveUpTo(0, 0.1));
+    a->Visit(DMPL_NVP(view_rate_hz), AtLeast(0));
     a->Visit(DMPL_NVP(respawn));
     a->Visit(DMPL_NVP(run_id));
   }
-  // Throws ConfigError naming `source` and the key.
-  void Validate(const std::string& source) const;
+  void Validate(const std::string& source) const { CheckBounds(*this, source, "run"); }
 };
 
 // Decimates a stream by its sim time: true once per 1 / rate_hz of it (never for rate_hz <= 0).

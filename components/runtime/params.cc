@@ -116,6 +116,33 @@ bool IsUtf8Text(const std::string& text) {
 
 }  // namespace
 
+namespace {
+
+std::string Number(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+std::string Bound::Text() const {
+  const bool has_lo = lo > -std::numeric_limits<double>::infinity();
+  const bool has_hi = hi < std::numeric_limits<double>::infinity();
+  if (has_lo && has_hi) {
+    return "must be in " + std::string(lo_open ? "(" : "[") + Number(lo) + ", " + Number(hi) +
+           (hi_open ? ")" : "]");
+  }
+  if (has_lo) return std::string("must be ") + (lo_open ? "> " : ">= ") + Number(lo);
+  if (has_hi) return std::string("must be ") + (hi_open ? "< " : "<= ") + Number(hi);
+  return "must be a number";
+}
+
+void BoundsCheckArchive::Fail(const std::string& path, const Bound& bound, double value) const {
+  throw ConfigError("config error in " + source_ + ": key '" + path + "': " + bound.Text() +
+                    ", got " + Number(value));
+}
+
 YAML::Node LoadYamlFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError("config error: cannot open file '" + path + "'");

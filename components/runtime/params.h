@@ -10,8 +10,13 @@
 //
 // Reading is strict: an unknown key, a value of the wrong type or shape is a ConfigError that
 // names the source (file) and the full key path, with the line number.
+//
+// A numeric field's bounds are declared beside it, once: `a->Visit(DMPL_NVP(gain), AtLeast(0))`.
+// CheckBounds (what each struct's Validate calls, with its cross-field checks) checks every
+// bounded field, and every element of a bounded list, naming the key.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -37,10 +42,28 @@ struct NameValue {
 };
 #define DMPL_NVP(field) ::dmpl::NameValue<decltype(field)>{#field, &(field)}
 
+// The values a number may take: an interval, each end open or closed (NaN never holds).
+struct Bound {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;
+  bool hi_open = false;
+  bool Holds(double v) const {
+    return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  std::string Text() const;  // "must be > 0", "must be in [0, 2]", ...
+};
+inline Bound Above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }
+inline Bound AtLeast(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
+inline Bound InRange(double lo, double hi) { return {lo, hi, false, false}; }
+inline Bound AboveUpTo(double lo, double hi) { return {lo, hi, true, false}; }
+
 namespace internal {
 struct ProbeArchive {
   template <typename T>
   void Visit(const NameValue<T>&) {}
+  template <typename T>
+  void Visit(const NameValue<T>&, const Bound&) {}
 };
 template <typename T, typename = void>
 struct IsSerializable : std::false_type {};
@@ -98,6 +121,10 @@ class YamlReadArchive {
     const YAML::Node child = const_node[nv.name];
     if (!child.IsDefined() || child.IsNull()) return;  // keep the default
     Read(child, Join(path_, nv.name), nv.value);
+  }
+  template <typename T>
+  void Visit(const NameValue<T>& nv, const Bound&) {  // checked by CheckBounds
+    Visit(nv);
   }
 
   [[noreturn]] void Fail(const YAML::Node& node, const std::string& path,
@@ -179,6 +206,10 @@ class YamlWriteArchive {
   void Visit(const NameValue<T>& nv) {
     node_[nv.name] = ToNode(*nv.value);
   }
+  template <typename T>
+  void Visit(const NameValue<T>& nv, const Bound&) {
+    Visit(nv);
+  }
 
  private:
   template <typename T>
@@ -204,6 +235,60 @@ class YamlWriteArchive {
   }
   YAML::Node node_{YAML::NodeType::Map};
 };
+
+// Checks the bounds declared in a struct's Serialize (and its nested structs'): the first value
+// out of its bounds is a ConfigError naming `source` and the key.
+class BoundsCheckArchive {
+ public:
+  BoundsCheckArchive(std::string source, std::string path)
+      : source_(std::move(source)), path_(std::move(path)) {}
+
+  template <typename T>
+  void Visit(const NameValue<T>& nv) {
+    Nested(path_ + "." + nv.name, *nv.value);
+  }
+  template <typename T>
+  void Visit(const NameValue<T>& nv, const Bound& bound) {
+    Check(path_ + "." + nv.name, *nv.value, bound);
+  }
+
+ private:
+  template <typename T>
+  void Nested(const std::string& path, T& v) {
+    if constexpr (internal::IsSerializable<T>::value) {
+      BoundsCheckArchive sub(source_, path);
+      v.Serialize(&sub);
+    } else if constexpr (internal::IsVector<T>::value) {
+      for (size_t i = 0; i < v.size(); ++i) Nested(path + "[" + std::to_string(i) + "]", v[i]);
+    } else if constexpr (internal::IsStringMap<T>::value) {
+      for (auto& [key, e] : v) Nested(path + "." + key, e);
+    }
+  }
+  template <typename T>
+  void Check(const std::string& path, const T& v, const Bound& bound) const {
+    if constexpr (std::is_arithmetic_v<T>) {
+      if (!bound.Holds(static_cast<double>(v))) Fail(path, bound, static_cast<double>(v));
+    } else if constexpr (internal::IsVector<T>::value || internal::IsArray<T>::value) {
+      for (size_t i = 0; i < v.size(); ++i) {
+        Check(path + "[" + std::to_string(i) + "]", v[i], bound);
+      }
+    } else if constexpr (internal::IsStringMap<T>::value) {
+      for (const auto& [key, e] : v) Check(path + "." + key, e, bound);
+    } else {
+      static_assert(!sizeof(T*), "bounds apply to numbers and lists or maps of numbers");
+    }
+  }
+  [[noreturn]] void Fail(const std::string& path, const Bound& bound, double value) const;
+
+  std::string source_;
+  std::string path_;
+};
+
+template <typename T>
+void CheckBounds(const T& params, const std::string& source, const std::string& section) {
+  BoundsCheckArchive archive(source, section);
+  const_cast<T&>(params).Serialize(&archive);
+}
 
 // Loads a YAML file; a missing file or a syntax error is a ConfigError naming the file.
 YAML::Node LoadYamlFile(const std::string& path);

@@ -25,25 +25,6 @@ bool AllFinite(const Vec& v) {
 
 }  // namespace
 
-void NoiseParams::Validate(const std::string& source) const {
-  auto fail = [&](const std::string& key, const std::string& what) {
-    throw ConfigError("config error in " + source + ": key 'noise." + key + "': " + what);
-  };
-  for (auto [key, v] : {std::pair{"object_position_sigma", object_position_sigma},
-                        {"object_orientation_sigma", object_orientation_sigma},
-                        {"joint_position_sigma", joint_position_sigma},
-                        {"joint_velocity_sigma", joint_velocity_sigma},
-                        {"contact_position_sigma", contact_position_sigma},
-                        {"force_sigma", force_sigma}}) {
-    if (v < 0) fail(key, "a standard deviation must be >= 0");
-  }
-  if (force_scale <= 0) fail("force_scale", "must be > 0");
-  if (dropout_probability < 0 || dropout_probability > 1) {
-    fail("dropout_probability", "must be within [0, 1]");
-  }
-  if (delay_ticks < 0 || delay_ticks > 1000) fail("delay_ticks", "must be within [0, 1000]");
-}
-
 bool IsFinite(const joint_state_t& m, std::string* why) {
   const size_t n = static_cast<size_t>(std::max<int16_t>(m.num_joints, 0));
   if (m.num_joints < 0 || m.name.size() != n || m.position.size() != n ||

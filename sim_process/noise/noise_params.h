@@ -22,21 +22,21 @@ struct NoiseParams {
 
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(object_position_sigma));
-    a->Visit(DMPL_NVP(object_orientation_sigma));
-    a->Visit(DMPL_NVP(joint_position_sigma));
-    a->Visit(DMPL_NVP(joint_velocity_sigma));
-    a->Visit(DMPL_NVP(contact_position_sigma));
+    a->Visit(DMPL_NVP(object_position_sigma), AtLeast(0));
+    a->Visit(DMPL_NVP(object_orientation_sigma), AtLeast(0));
+    a->Visit(DMPL_NVP(joint_position_sigma), AtLeast(0));
+    a->Visit(DMPL_NVP(joint_velocity_sigma), AtLeast(0));
+    a->Visit(DMPL_NVP(contact_position_sigma), AtLeast(0));
     a->Visit(DMPL_NVP(contact_position_offset));
-    a->Visit(DMPL_NVP(force_sigma));
+    a->Visit(DMPL_NVP(force_sigma), AtLeast(0));
     a->Visit(DMPL_NVP(force_bias));
-    a->Visit(DMPL_NVP(force_scale));
-    a->Visit(DMPL_NVP(dropout_probability));
-    a->Visit(DMPL_NVP(delay_ticks));
+    a->Visit(DMPL_NVP(force_scale), Above(0));
+    a->Visit(DMPL_NVP(dropout_probability), InRange(0, 1));
+    a->Visit(DMPL_NVP(delay_ticks), InRange(0, 1000));
   }
 
   // Throws ConfigError on values that make no sense (negative sigma, probability > 1, ...).
-  void Validate(const std::string& source) const;
+  void Validate(const std::string& source) const { CheckBounds(*this, source, "noise"); }
 };
 
 }  // namespace dmpl

@@ -108,50 +108,29 @@ Eigen::Vector3d ObjectInertia(const ObjectParams& o) {
 }
 
 void SimParams::Validate(const std::string& source) const {
-  auto fail = [&](const std::string& key, const std::string& what) {
-    throw ConfigError("config error in " + source + ": key 'sim." + key + "': " + what);
-  };
-  if (!(physics.time_step > 0 && physics.time_step <= 0.01)) fail("physics.time_step", "must be in (0, 0.01]");
-  if (physics.solver_iterations < 1) fail("physics.solver_iterations", "must be >= 1");
-  if (physics.collision_margin < 0 || physics.collision_margin > 0.005) {
-    fail("physics.collision_margin", "must be in [0, 0.005] m");
-  }
+  CheckBounds(*this, source, "sim");
   if (servo.kp.empty() || servo.kp.size() != servo.kd.size()) {
-    fail("servo.kp", "kp and kd need the same, non-zero number of entries");
+    throw ConfigError("config error in " + source +
+                      ": key 'sim.servo.kp': kp and kd need the same, non-zero number of entries");
   }
-  for (double k : servo.kp) if (k < 0) fail("servo.kp", "gains must be >= 0");
-  for (double k : servo.kd) if (k < 0) fail("servo.kd", "gains must be >= 0");
-  for (const auto& [f, k] : servo.finger_scale) {
-    if (!(k > 0) || k > 10) fail("servo.finger_scale." + f, "must be in (0, 10]");
-  }
-  if (steps_per_tick < 1) fail("steps_per_tick", "must be >= 1");
-  if (command_delay_ticks < 0 || command_delay_ticks > 100) {
-    fail("command_delay_ticks", "must be in [0, 100]");
-  }
-  if (!(duration_s > 0)) fail("duration_s", "must be > 0");
-  if (!(realtime_rate > 0)) fail("realtime_rate", "must be > 0");
-  if (tactile.contact_threshold_n < 0) fail("tactile.contact_threshold_n", "must be >= 0");
 }
 
 void ObjectParams::Validate(const std::string& source) const {
   auto fail = [&](const std::string& key, const std::string& what) {
     throw ConfigError("config error in " + source + ": key 'object." + key + "': " + what);
   };
+  CheckBounds(*this, source, "object");
   static const std::vector<std::string> kShapes = {"sphere", "cylinder", "box", "capsule",
                                                    "ellipsoid"};
   if (std::find(kShapes.begin(), kShapes.end(), shape) == kShapes.end()) {
     fail("shape", "unknown shape '" + shape + "' (sphere, cylinder, box, capsule, ellipsoid)");
   }
-  if (!(mass > 0)) fail("mass", "must be > 0");
   if ((shape == "sphere" || shape == "cylinder" || shape == "capsule") && !(radius > 0)) {
     fail("radius", "must be > 0");
   }
   if ((shape == "cylinder" || shape == "capsule") && !(length > 0)) fail("length", "must be > 0");
   if (shape == "box") for (double s : size) if (!(s > 0)) fail("size", "edges must be > 0");
   if (shape == "ellipsoid") for (double r : radii) if (!(r > 0)) fail("radii", "must be > 0");
-  if (friction < 0) fail("friction", "must be >= 0");
-  if (rolling_friction < 0 || spinning_friction < 0) fail("rolling_friction", "must be >= 0");
-  if (restitution < 0 || restitution > 1) fail("restitution", "must be in [0, 1]");
 }
 
 // A link collider that also skips the hand's excluded link pairs (hand.self_collision_exclude);

@@ -24,15 +24,15 @@ struct PhysicsParams {
 
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(time_step));
-    a->Visit(DMPL_NVP(solver_iterations));
-    a->Visit(DMPL_NVP(contact_erp));
-    a->Visit(DMPL_NVP(friction_erp));
+    a->Visit(DMPL_NVP(time_step), AboveUpTo(0, 0.01));
+    a->Visit(DMPL_NVP(solver_iterations), AtLeast(1));
+    a->Visit(DMPL_NVP(contact_erp), InRange(0, 1));
+    a->Visit(DMPL_NVP(friction_erp), InRange(0, 1));
     a->Visit(DMPL_NVP(linear_slop));
     a->Visit(DMPL_NVP(minimum_solver_batch_size));
     a->Visit(DMPL_NVP(warmstarting_factor));
     a->Visit(DMPL_NVP(residual_threshold));
-    a->Visit(DMPL_NVP(collision_margin));
+    a->Visit(DMPL_NVP(collision_margin), InRange(0, 0.005));
     a->Visit(DMPL_NVP(self_collision));
     a->Visit(DMPL_NVP(gravity));
   }
@@ -50,9 +50,9 @@ struct ServoParams {
 
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(kp));
-    a->Visit(DMPL_NVP(kd));
-    a->Visit(DMPL_NVP(finger_scale));
+    a->Visit(DMPL_NVP(kp), AtLeast(0));
+    a->Visit(DMPL_NVP(kd), AtLeast(0));
+    a->Visit(DMPL_NVP(finger_scale), AboveUpTo(0, 10));
     a->Visit(DMPL_NVP(gravity_compensation));
   }
 };
@@ -63,8 +63,8 @@ struct TactileParams {
 
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit(DMPL_NVP(contact_threshold_n));
-    a->Visit(DMPL_NVP(finger_friction));
+    a->Visit(DMPL_NVP(contact_threshold_n), AtLeast(0));
+    a->Visit(DMPL_NVP(finger_friction), AtLeast(0));
   }
 };
 
@@ -95,10 +95,10 @@ struct SimParams {
     a->Visit(DMPL_NVP(palm_position));
     a->Visit(DMPL_NVP(palm_rpy));
     a->Visit(DMPL_NVP(initial_joints));
-    a->Visit(DMPL_NVP(steps_per_tick));
-    a->Visit(DMPL_NVP(command_delay_ticks));
-    a->Visit(DMPL_NVP(duration_s));
-    a->Visit(DMPL_NVP(realtime_rate));
+    a->Visit(DMPL_NVP(steps_per_tick), AtLeast(1));
+    a->Visit(DMPL_NVP(command_delay_ticks), InRange(0, 100));
+    a->Visit(DMPL_NVP(duration_s), Above(0));
+    a->Visit(DMPL_NVP(realtime_rate), Above(0));
     a->Visit(DMPL_NVP(stats_file));
   }
   void Validate(const std::string& source) const;
@@ -127,11 +127,11 @@ struct ObjectParams {
     a->Visit(DMPL_NVP(length));
     a->Visit(DMPL_NVP(size));
     a->Visit(DMPL_NVP(radii));
-    a->Visit(DMPL_NVP(mass));
-    a->Visit(DMPL_NVP(friction));
-    a->Visit(DMPL_NVP(rolling_friction));
-    a->Visit(DMPL_NVP(spinning_friction));
-    a->Visit(DMPL_NVP(restitution));
+    a->Visit(DMPL_NVP(mass), Above(0));
+    a->Visit(DMPL_NVP(friction), AtLeast(0));
+    a->Visit(DMPL_NVP(rolling_friction), AtLeast(0));
+    a->Visit(DMPL_NVP(spinning_friction), AtLeast(0));
+    a->Visit(DMPL_NVP(restitution), InRange(0, 1));
     a->Visit(DMPL_NVP(position));
     a->Visit(DMPL_NVP(rpy));
     a->Visit(DMPL_NVP(held));

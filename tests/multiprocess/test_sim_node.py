@@ -197,7 +197,7 @@ class SimNodeTest(unittest.TestCase):
         # The loop's period, which the controller uses, is the simulator's tick.
         self.check_error("sim: {steps_per_tick: 2}\n", "key 'run.tick_s': 0.001000 s, but the "
                          "simulator's tick (sim.physics.time_step x sim.steps_per_tick) is 0.002")
-        self.check_error("run: {tick_s: 0}\n", "key 'run.tick_s': must be in (0, 0.1] s")
+        self.check_error("run: {tick_s: 0}\n", "key 'run.tick_s': must be in (0, 0.1], got 0")
         link = ('<link name="{0}"><inertial><mass value="{1}"/><inertia ixx="1e-5" iyy="1e-5" '
                 'izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial></link>')
         robot = ('<?xml version="1.0"?><robot name="r">' + link.format("palm", 1) +

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -201,6 +202,73 @@ TEST(ConfigTest, WithoutASectionLeavesTheOriginalWhole) {
   EXPECT_EQ(blind.root()["run"]["seed"].as<int>(), 3);
   EXPECT_EQ(full.root()["object"]["mass"].as<double>(), 0.2);  // the clone is a clone
   std::remove(path.c_str());
+}
+
+struct Bounded {
+  struct Inner {
+    double gain = 1.0;
+    template <typename Archive>
+    void Serialize(Archive* a) {
+      a->Visit(DMPL_NVP(gain), InRange(0, 2));
+    }
+  };
+  double step = 0.1;
+  int ticks = 1;
+  std::vector<double> sigmas = {0.0, 0.5};
+  Inner inner;
+  std::map<std::string, Inner> per_finger = {{"T", {}}};
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(step), AboveUpTo(0, 1));
+    a->Visit(DMPL_NVP(ticks), AtLeast(1));
+    a->Visit(DMPL_NVP(sigmas), AtLeast(0));
+    a->Visit(DMPL_NVP(inner));
+    a->Visit(DMPL_NVP(per_finger));
+  }
+};
+
+std::string BoundsError(const Bounded& b) {
+  try {
+    CheckBounds(b, "exp.yaml", "sec");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParamsTest, BoundsDeclaredBesideTheFieldsAreCheckedAndNameTheKey) {
+  Bounded b;
+  EXPECT_EQ(BoundsError(b), "");  // the defaults hold
+  b.step = 1.0;                   // the closed end
+  EXPECT_EQ(BoundsError(b), "");
+  b.step = 0.0;                   // the open end
+  EXPECT_EQ(BoundsError(b), "config error in exp.yaml: key 'sec.step': must be in (0, 1], got 0");
+  b.step = std::nan("");
+  EXPECT_NE(BoundsError(b).find("key 'sec.step'"), std::string::npos);
+  b = Bounded{};
+  b.ticks = 0;
+  EXPECT_NE(BoundsError(b).find("key 'sec.ticks': must be >= 1, got 0"), std::string::npos);
+  b = Bounded{};
+  b.sigmas[1] = -0.5;  // each element of a list
+  EXPECT_NE(BoundsError(b).find("key 'sec.sigmas[1]': must be >= 0, got -0.5"), std::string::npos);
+  b = Bounded{};
+  b.inner.gain = 3;  // nested structs, and maps of them
+  EXPECT_NE(BoundsError(b).find("key 'sec.inner.gain': must be in [0, 2], got 3"),
+            std::string::npos);
+  b = Bounded{};
+  b.per_finger["T"].gain = 1e300;
+  EXPECT_NE(BoundsError(b).find("key 'sec.per_finger.T.gain': must be in [0, 2], got 1e+300"),
+            std::string::npos);
+}
+
+TEST(ParamsTest, BoundedFieldsReadAndWriteLikeAnyOther) {
+  Bounded b;
+  YamlReadArchive::Load(YAML::Load("{step: 0.5, sigmas: [1, 2], inner: {gain: 1.5}}"), "x", "sec",
+                        &b);
+  EXPECT_EQ(b.step, 0.5);
+  EXPECT_EQ(b.sigmas, (std::vector<double>{1, 2}));
+  EXPECT_EQ(b.inner.gain, 1.5);
+  EXPECT_EQ(YamlWriteArchive::Save(b)["inner"]["gain"].as<double>(), 1.5);
 }
 
 }  // namespace
