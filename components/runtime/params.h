@@ -53,10 +53,10 @@ struct Bound {
   }
   std::string Text() const;  // "must be > 0", "must be in [0, 2]", ...
 };
-inline Bound Above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, false}; }
-inline Bound AtLeast(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
-inline Bound InRange(double lo, double hi) { return {lo, hi, false, false}; }
-inline Bound AboveUpTo(double lo, double hi) { return {lo, hi, true, false}; }
+inline Bound Above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true}; }
+inline Bound AtLeast(double lo) { return {lo, std::numeric_limits<double>::infinity()}; }
+inline Bound InRange(double lo, double hi) { return {lo, hi}; }
+inline Bound AboveUpTo(double lo, double hi) { return {lo, hi, true}; }
 
 namespace internal {
 struct ProbeArchive {
