@@ -86,8 +86,7 @@ class ControllerNode : public Node {
     for (const auto& t : m->tactile.fingers) {
       const int f = kin_.FindFinger(t.finger);
       if (f < 0) continue;
-      in.tips[f] = {t.in_contact != 0, Eigen::Vector3d(t.position[0], t.position[1], t.position[2]),
-                    t.force_n};
+      in.tips[f] = {t.in_contact != 0, ToVector3(t.position), t.force_n};
     }
     in.object_valid = m->object.valid;
     in.object = ToPose(m->object.position, m->object.orientation);

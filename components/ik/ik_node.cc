@@ -7,6 +7,7 @@
 #include "components/ik/hand_ik.h"
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
+#include "components/runtime/lcm_eigen.h"
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
 #include "components/ik/ik_node.h"
@@ -56,7 +57,7 @@ class IkNode : public Node {
       return;
     }
     for (const auto& t : m->fingers) {
-      const Eigen::Vector3d p(t.position[0], t.position[1], t.position[2]);
+      const Eigen::Vector3d p = ToVector3(t.position);
       if (t.mode == finger_target_t::POSITION && p.allFinite() &&
           p.norm() > InputBounds::kWorkspaceRadiusM) {
         Reject("target for finger " + t.finger + " " + std::to_string(p.norm()) +
@@ -97,7 +98,7 @@ class IkNode : public Node {
         continue;
       }
       if (t.mode == finger_target_t::POSITION) {
-        targets[f] = Eigen::Vector3d(t.position[0], t.position[1], t.position[2]);
+        targets[f] = ToVector3(t.position);
       }
     }
     const std::vector<double>& q = ik_.Step(targets_.joint_position, targets);

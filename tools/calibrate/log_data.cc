@@ -5,6 +5,7 @@
 #include "components/logging/decode.h"
 #include "components/logging/event_log_reader.h"
 #include "components/runtime/channels.h"
+#include "components/runtime/lcm_eigen.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/hand_sensors_t.hpp"
 
@@ -14,8 +15,7 @@ namespace {
 std::vector<TipSample> Tips(const tactile_t& m) {
   std::vector<TipSample> out;
   for (const auto& f : m.fingers) {
-    out.push_back({f.in_contact != 0, Eigen::Vector3d(f.position[0], f.position[1], f.position[2]),
-                   f.force_n});
+    out.push_back({f.in_contact != 0, ToVector3(f.position), f.force_n});
   }
   return out;
 }
@@ -46,8 +46,7 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
             tick.sensed = Tips(m.tactile);
             tick.has_sensed = true;
             if (m.object.valid) {
-              const double* p = m.object.position;
-              tick.object_position = Eigen::Vector3d(p[0], p[1], p[2]);
+              tick.object_position = ToVector3(m.object.position);
               tick.has_object = true;
             }
           } else {
@@ -68,11 +67,9 @@ LogData ReadLogs(const std::vector<std::string>& paths) {
             c.in_contact = f.in_contact != 0;
             c.force = f.force_n;
             c.desired = f.desired_force_n;
-            c.tip = Eigen::Vector3d(f.tip_position[0], f.tip_position[1], f.tip_position[2]);
-            c.target =
-                Eigen::Vector3d(f.target_position[0], f.target_position[1], f.target_position[2]);
-            c.contact = Eigen::Vector3d(f.contact_position[0], f.contact_position[1],
-                                        f.contact_position[2]);
+            c.tip = ToVector3(f.tip_position);
+            c.target = ToVector3(f.target_position);
+            c.contact = ToVector3(f.contact_position);
             tick.control.push_back(c);
           }
           tick.has_control = true;
