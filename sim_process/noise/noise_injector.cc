@@ -5,7 +5,6 @@
 
 #include <Eigen/Geometry>
 
-#include "components/runtime/lcm_eigen.h"
 #include "components/runtime/random.h"
 
 namespace dmpl {
@@ -14,41 +13,34 @@ namespace {
 // Stream ids: one per channel, so adding noise to one channel never shifts another's draws.
 enum Stream : uint64_t { kJoints = 1, kObject = 2, kTactile = 3 };
 
-bool AllFinite(const double* v, size_t n) {
-  return std::all_of(v, v + n, [](double x) { return std::isfinite(x); });
-}
-
-template <typename Vec>
-bool AllFinite(const Vec& v) {
-  return AllFinite(v.data(), v.size());
+template <typename Values>
+bool AllFinite(const Values& v) {
+  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
 
 }  // namespace
 
-bool IsFinite(const joint_state_t& m, std::string* why) {
-  const size_t n = static_cast<size_t>(std::max<int16_t>(m.num_joints, 0));
-  if (m.num_joints < 0 || m.name.size() != n || m.position.size() != n ||
-      m.velocity.size() != n || m.effort.size() != n) {
+bool IsValid(const JointsReading& r, std::string* why) {
+  const size_t n = r.names.size();
+  if (r.position.size() != n || r.velocity.size() != n || r.effort.size() != n) {
     *why = "joint state with inconsistent sizes";
     return false;
   }
-  if (!AllFinite(m.position) || !AllFinite(m.velocity) || !AllFinite(m.effort)) {
+  if (!AllFinite(r.position) || !AllFinite(r.velocity) || !AllFinite(r.effort)) {
     *why = "joint state with NaN/Inf";
     return false;
   }
   return true;
 }
 
-bool IsFinite(const object_pose_t& m, std::string* why) {
-  if (!AllFinite(m.position, 3) || !AllFinite(m.orientation, 4) ||
-      !AllFinite(m.linear_velocity, 3) || !AllFinite(m.angular_velocity, 3)) {
+bool IsValid(const ObjectPoseReading& r, std::string* why) {
+  if (!AllFinite(r.position) || !AllFinite(r.orientation) || !AllFinite(r.linear_velocity) ||
+      !AllFinite(r.angular_velocity)) {
     *why = "object pose with NaN/Inf";
     return false;
   }
-  const double norm = std::sqrt(m.orientation[0] * m.orientation[0] +
-                                m.orientation[1] * m.orientation[1] +
-                                m.orientation[2] * m.orientation[2] +
-                                m.orientation[3] * m.orientation[3]);
+  const auto& q = r.orientation;
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (std::abs(norm - 1.0) > 1e-3) {
     *why = "object pose with a non-unit quaternion";
     return false;
@@ -56,13 +48,9 @@ bool IsFinite(const object_pose_t& m, std::string* why) {
   return true;
 }
 
-bool IsFinite(const tactile_t& m, std::string* why) {
-  if (m.num_fingers < 0 || m.fingers.size() != static_cast<size_t>(m.num_fingers)) {
-    *why = "tactile message with inconsistent sizes";
-    return false;
-  }
-  for (const auto& f : m.fingers) {
-    if (!AllFinite(f.position, 3) || !AllFinite(f.normal, 3) || !std::isfinite(f.force_n)) {
+bool IsValid(const std::vector<TipReading>& r, std::string* why) {
+  for (const TipReading& f : r) {
+    if (!AllFinite(f.position) || !AllFinite(f.normal) || !std::isfinite(f.force_n)) {
       *why = "tactile reading of finger '" + f.finger + "' with NaN/Inf";
       return false;
     }
@@ -87,14 +75,14 @@ const Msg& NoiseInjector::Delayed(Channel<Msg>* channel, const Msg& truth) {
   return channel->history.front();  // truth(k - delay), or the oldest we have
 }
 
-std::optional<joint_state_t> NoiseInjector::Sense(const joint_state_t& truth) {
+std::optional<JointsReading> NoiseInjector::Sense(int64_t seq, const JointsReading& truth) {
   std::string why;
-  if (!IsFinite(truth, &why)) {
+  if (!IsValid(truth, &why)) {
     Reject(why);
     return std::nullopt;
   }
-  Rng rng(seed_, truth.seq, kJoints);
-  joint_state_t out = Delayed(&joints_, truth);
+  Rng rng(seed_, seq, kJoints);
+  JointsReading out = Delayed(&joints_, truth);
   if (params_.dropout_probability > 0 && rng.Uniform() < params_.dropout_probability &&
       joints_.last_sent) {
     ++dropped_;
@@ -103,20 +91,19 @@ std::optional<joint_state_t> NoiseInjector::Sense(const joint_state_t& truth) {
     for (auto& q : out.position) q += params_.joint_position_sigma * rng.Normal();
     for (auto& qd : out.velocity) qd += params_.joint_velocity_sigma * rng.Normal();
   }
-  out.seq = truth.seq;
-  out.utime = truth.utime;
   joints_.last_sent = out;
   return out;
 }
 
-std::optional<object_pose_t> NoiseInjector::Sense(const object_pose_t& truth) {
+std::optional<ObjectPoseReading> NoiseInjector::Sense(int64_t seq,
+                                                      const ObjectPoseReading& truth) {
   std::string why;
-  if (!IsFinite(truth, &why)) {
+  if (!IsValid(truth, &why)) {
     Reject(why);
     return std::nullopt;
   }
-  Rng rng(seed_, truth.seq, kObject);
-  object_pose_t out = Delayed(&object_, truth);
+  Rng rng(seed_, seq, kObject);
+  ObjectPoseReading out = Delayed(&object_, truth);
   if (params_.dropout_probability > 0 && rng.Uniform() < params_.dropout_probability) {
     ++dropped_;
     if (object_.last_sent) out = *object_.last_sent;
@@ -127,33 +114,34 @@ std::optional<object_pose_t> NoiseInjector::Sense(const object_pose_t& truth) {
       const Eigen::Vector3d rv(rng.Normal(), rng.Normal(), rng.Normal());
       const Eigen::Vector3d w = params_.object_orientation_sigma * rv;
       const Eigen::Quaterniond dq(Eigen::AngleAxisd(w.norm(), w.normalized()));
-      ToArray(Eigen::Quaterniond(dq * ToQuaternion(out.orientation)).normalized(),
-              out.orientation);
+      const auto& q = out.orientation;
+      const Eigen::Quaterniond noisy =
+          Eigen::Quaterniond(dq * Eigen::Quaterniond(q[0], q[1], q[2], q[3])).normalized();
+      out.orientation = {noisy.w(), noisy.x(), noisy.y(), noisy.z()};
     }
   }
   // A pose sensor does not measure the twist.
-  std::fill(out.linear_velocity, out.linear_velocity + 3, 0.0);
-  std::fill(out.angular_velocity, out.angular_velocity + 3, 0.0);
-  out.seq = truth.seq;
-  out.utime = truth.utime;
+  out.linear_velocity = {0.0, 0.0, 0.0};
+  out.angular_velocity = {0.0, 0.0, 0.0};
   object_.last_sent = out;
   return out;
 }
 
-std::optional<tactile_t> NoiseInjector::Sense(const tactile_t& truth) {
+std::optional<std::vector<TipReading>> NoiseInjector::Sense(
+    int64_t seq, const std::vector<TipReading>& truth) {
   std::string why;
-  if (!IsFinite(truth, &why)) {
+  if (!IsValid(truth, &why)) {
     Reject(why);
     return std::nullopt;
   }
-  Rng rng(seed_, truth.seq, kTactile);
-  tactile_t out = Delayed(&tactile_, truth);
+  Rng rng(seed_, seq, kTactile);
+  std::vector<TipReading> out = Delayed(&tactile_, truth);
   if (params_.dropout_probability > 0 && rng.Uniform() < params_.dropout_probability &&
       tactile_.last_sent) {
     ++dropped_;
     out = *tactile_.last_sent;
   } else {
-    for (auto& f : out.fingers) {
+    for (TipReading& f : out) {
       // Draw for every finger, in contact or not, so one finger's contact does not shift
       // another's noise.
       const double n[4] = {rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal()};
@@ -165,29 +153,21 @@ std::optional<tactile_t> NoiseInjector::Sense(const tactile_t& truth) {
           0.0, params_.force_scale * f.force_n + params_.force_bias + params_.force_sigma * n[3]);
     }
   }
-  out.seq = truth.seq;
-  out.utime = truth.utime;
   tactile_.last_sent = out;
   return out;
 }
 
-std::optional<hand_sensors_t> NoiseInjector::Sense(const hand_sensors_t& truth) {
-  if (truth.joints.seq != truth.seq || truth.object.seq != truth.seq ||
-      truth.tactile.seq != truth.seq) {
-    Reject("sensors of tick " + std::to_string(truth.seq) + " with parts of other ticks");
-    return std::nullopt;
-  }
-  auto joints = Sense(truth.joints);
-  auto object = Sense(truth.object);
-  auto tactile = Sense(truth.tactile);
-  if (!joints || !object || !tactile) return std::nullopt;
-  hand_sensors_t out{};
-  out.run_id = truth.run_id;
-  out.utime = truth.utime;
+std::optional<HandReading> NoiseInjector::Sense(const HandReading& truth) {
+  auto joints = Sense(truth.seq, truth.joints);
+  auto object = Sense(truth.seq, truth.object);
+  auto tips = Sense(truth.seq, truth.tips);
+  if (!joints || !object || !tips) return std::nullopt;
+  HandReading out;
   out.seq = truth.seq;
+  out.utime = truth.utime;
   out.joints = std::move(*joints);
   out.object = *object;
-  out.tactile = std::move(*tactile);
+  out.tips = std::move(*tips);
   return out;
 }
 

@@ -1,16 +1,13 @@
 #pragma once
-// The noise injector's core: ground truth in, sensed readings out. No LCM transport here; the
-// messages are plain structs. Every draw comes from Rng(seed, seq, channel) so the same seed
-// gives the same readings in any arrival order.
+// The noise injector's core: ground truth in, sensed readings out, as plain values
+// (hand_reading.h; no LCM here). Every draw comes from Rng(seed, seq, part) so the same seed gives
+// the same readings in any arrival order.
 #include <cstdint>
 #include <deque>
 #include <optional>
 #include <string>
 
-#include "dmpl/hand_sensors_t.hpp"
-#include "dmpl/joint_state_t.hpp"
-#include "dmpl/object_pose_t.hpp"
-#include "dmpl/tactile_t.hpp"
+#include "sim_process/noise/hand_reading.h"
 #include "sim_process/noise/noise_params.h"
 
 namespace dmpl {
@@ -19,15 +16,17 @@ class NoiseInjector {
  public:
   NoiseInjector(const NoiseParams& params, int64_t seed);
 
-  // Each returns the sensed reading for the truth's seq, or nullopt when the truth is malformed
-  // (NaN, inconsistent sizes, non-unit quaternion): such input is counted and never forwarded.
-  std::optional<joint_state_t> Sense(const joint_state_t& truth);
-  std::optional<object_pose_t> Sense(const object_pose_t& truth);
-  std::optional<tactile_t> Sense(const tactile_t& truth);
-  // A whole tick: each part as above (the same draws), or nullopt when any part is malformed or
-  // the parts disagree on the tick.
-  std::optional<hand_sensors_t> Sense(const hand_sensors_t& truth);
+  // Each returns the sensed reading of tick `seq`, or nullopt when the truth is malformed (NaN,
+  // inconsistent sizes, non-unit quaternion): such input is counted and never forwarded.
+  std::optional<JointsReading> Sense(int64_t seq, const JointsReading& truth);
+  std::optional<ObjectPoseReading> Sense(int64_t seq, const ObjectPoseReading& truth);
+  std::optional<std::vector<TipReading>> Sense(int64_t seq, const std::vector<TipReading>& truth);
+  // A whole tick: each part as above (the same draws), or nullopt when any part is malformed.
+  std::optional<HandReading> Sense(const HandReading& truth);
 
+  // Input refused before it reached the injector (a message whose parts disagree on the tick):
+  // counted with the rest.
+  void Reject(const std::string& why);
   int64_t rejected() const { return rejected_; }
   int64_t dropped() const { return dropped_; }
   const std::string& last_rejection() const { return last_rejection_; }
@@ -40,21 +39,21 @@ class NoiseInjector {
   };
   template <typename Msg>
   const Msg& Delayed(Channel<Msg>* channel, const Msg& truth);
-  void Reject(const std::string& why);
 
   NoiseParams params_;
   int64_t seed_;
-  Channel<joint_state_t> joints_;
-  Channel<object_pose_t> object_;
-  Channel<tactile_t> tactile_;
+  Channel<JointsReading> joints_;
+  Channel<ObjectPoseReading> object_;
+  Channel<std::vector<TipReading>> tactile_;
   int64_t rejected_ = 0;
   int64_t dropped_ = 0;
   std::string last_rejection_;
 };
 
-// Validity checks shared with other consumers of these messages.
-bool IsFinite(const joint_state_t& m, std::string* why);
-bool IsFinite(const object_pose_t& m, std::string* why);
-bool IsFinite(const tactile_t& m, std::string* why);
+// Whether a reading is one a sensor can give (finite, consistent sizes, a unit quaternion); why
+// not, when it is not.
+bool IsValid(const JointsReading& r, std::string* why);
+bool IsValid(const ObjectPoseReading& r, std::string* why);
+bool IsValid(const std::vector<TipReading>& r, std::string* why);
 
 }  // namespace dmpl

@@ -7,6 +7,7 @@
 #include "sim_process/noise/noise_node.h"
 #include "dmpl/heartbeat_t.hpp"
 #include "sim_process/noise/noise_injector.h"
+#include "sim_process/noise/sensors_translation.h"
 
 namespace dmpl {
 namespace {
@@ -39,12 +40,17 @@ class NoiseNode : public Node {
   }
 
   void Sense(const hand_sensors_t& truth) {
-    if (auto sensed = injector_.Sense(truth)) {
-      sensed->run_id = run_id();
-      PublishLoop(channels::kSensors, *sensed);
-      if (view_gate_.Due(sensed->utime)) {
-        lcm(channels::kViewSensed).publish(channels::kViewSensed, &*sensed);
-      }
+    std::string why;
+    const std::optional<HandReading> reading = ToReading(truth, &why);
+    if (!reading) {
+      injector_.Reject(why);
+      return;
+    }
+    if (const std::optional<HandReading> sensed = injector_.Sense(*reading)) {
+      hand_sensors_t m = ToMessage(*sensed);
+      m.run_id = run_id();
+      PublishLoop(channels::kSensors, m);
+      if (view_gate_.Due(m.utime)) lcm(channels::kViewSensed).publish(channels::kViewSensed, &m);
       set_tick(truth.seq);
     }
   }

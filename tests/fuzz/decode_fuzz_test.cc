@@ -18,6 +18,7 @@
 #include "dmpl/sim_control_t.hpp"
 #include "dmpl/task_cmd_t.hpp"
 #include "sim_process/noise/noise_injector.h"
+#include "sim_process/noise/sensors_translation.h"
 
 namespace dmpl {
 namespace {
@@ -158,7 +159,12 @@ void Fuzz(const Msg& sample, Use use) {
 TEST(DecodeFuzzTest, TruthThroughTheNoiseInjector) {
   NoiseParams params;
   NoiseInjector noise(params, 1);
-  Fuzz(Sensors(), [&noise](const hand_sensors_t& m) { noise.Sense(m); });
+  Fuzz(Sensors(), [&noise](const hand_sensors_t& m) {
+    std::string why;
+    if (const auto reading = ToReading(m, &why)) {
+      if (const auto sensed = noise.Sense(*reading)) ToMessage(*sensed);
+    }
+  });
 }
 
 TEST(DecodeFuzzTest, EveryTypeANodeReads) {
