@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "supervisor/statechart.h"
+#include "supervisor/turn_mode.h"
 
 namespace dmpl {
 
@@ -51,7 +52,7 @@ class RegraspActions {
 class RegraspChart {
  public:
   // `order`: the exploring order (each a finger name; four of them, S2..S5 = order[0..3]).
-  enum class Turn { kThreeFingers, kFourFingers, kContinuous, kAuto };
+  using Turn = TurnMode;  // task.turn (turn_mode.h)
   RegraspChart(RegraspActions* actions, std::vector<std::string> order,
                Turn turn = Turn::kThreeFingers);
 

@@ -45,15 +45,6 @@ const char* ToString(GraspEvent e) {
   return "?";
 }
 
-namespace {
-RegraspChart::Turn TurnOf(const std::string& turn) {
-  if (turn == "three") return RegraspChart::Turn::kThreeFingers;
-  if (turn == "four") return RegraspChart::Turn::kFourFingers;
-  if (turn == "continuous") return RegraspChart::Turn::kContinuous;
-  return RegraspChart::Turn::kAuto;
-}
-}  // namespace
-
 Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
                        SupervisorParams params, uint64_t seed)
     : seed_(seed),
@@ -67,7 +58,7 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
       ptask_index_(fingers_.size(), 0),
       ptask_since_(fingers_.size(), 0.0),
       home_(fingers_.size(), Eigen::Vector3d::Zero()),
-      regrasp_(this, tasks_.gait.order, TurnOf(task_params_.turn)),
+      regrasp_(this, tasks_.gait.order, task_params_.turn.mode),
       grasp_(BuildGraspChart()) {
   DMPL_DEMAND(fingers_.size() == 4);
   out_.task.fingers.resize(fingers_.size());
@@ -157,7 +148,7 @@ void Supervisor::StartTask(int index) {
   motion_done_event_ = false;
   std::fill(ptask_index_.begin(), ptask_index_.end(), 0);
   std::fill(ptask_since_.begin(), ptask_since_.end(), now_);
-  if (task.type == "gait") {
+  if (task.type == TaskType::kGait) {
     AllGrip();
     rotation_goal_ = rotation_commanded_ + task_params_.angle;
     if (task_params_.has_goals()) StartGoals();
@@ -292,7 +283,7 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
       if (now_ - state_since_ >= tasks_.grasp.settle_s) grasp_.Process(GraspEvent::Settled);
       break;
     case GraspState::Tasks:
-      if (tasks_.tasks[task_index_].type == "gait") {
+      if (tasks_.tasks[task_index_].type == TaskType::kGait) {
         TickGait();
       } else {
         TickLocalTask();

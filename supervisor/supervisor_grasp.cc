@@ -120,7 +120,7 @@ void Supervisor::TickApproach() {
 
 void Supervisor::PauseAndRegrip(const std::string& why) {
   ++recoveries_;
-  if (task_index_ >= 0 && tasks_.tasks[task_index_].type == "gait") {
+  if (task_index_ >= 0 && tasks_.tasks[task_index_].type == TaskType::kGait) {
     regrasp_.Process(RegraspEvent::Abort);
     explorer_ = -1;
   }
@@ -133,7 +133,7 @@ void Supervisor::PauseAndRegrip(const std::string& why) {
 void Supervisor::Resume() {
   const CTask& task = tasks_.tasks[task_index_];
   Note("resumed after " + std::to_string(recoveries_) + " recoveries");
-  if (task.type == "gait") {
+  if (task.type == TaskType::kGait) {
     NewTask(task.name);
     AllGrip();
     phase_since_ = now_;
@@ -150,7 +150,7 @@ void Supervisor::Resume() {
 }
 
 void Supervisor::Hold(const std::string& why) {
-  if (task_index_ >= 0 && tasks_.tasks[task_index_].type == "gait") {
+  if (task_index_ >= 0 && tasks_.tasks[task_index_].type == TaskType::kGait) {
     regrasp_.Process(RegraspEvent::Abort);
   }
   NewTask("hold");

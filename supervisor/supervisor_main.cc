@@ -15,16 +15,18 @@ int main(int argc, char** argv) {
     if (!dot && !mermaid) continue;
     // The grasp chart, then the regrasp chart for each way of turning (task.turn).
     const std::vector<std::string> fingers = {"T", "F", "M", "R"};
-    for (const char* turn : {"three", "four", "continuous", "auto"}) {
+    using dmpl::TurnMode;
+    for (TurnMode turn : {TurnMode::kThreeFingers, TurnMode::kFourFingers, TurnMode::kContinuous,
+                          TurnMode::kAuto}) {
       dmpl::TaskParams task;
       task.file = dmpl::ResolveProjectPath("configs/tasks/fig10_gait.yaml");
-      task.turn = turn;
+      task.turn.mode = turn;
       dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
                          dmpl::SupervisorParams{});
-      if (task.turn == "three") {
+      if (turn == TurnMode::kThreeFingers) {
         std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
       }
-      std::cout << (dot ? "// " : "%% ") << "task.turn: " << turn << "\n"
+      std::cout << (dot ? "// " : "%% ") << "task.turn: " << ToString(turn) << "\n"
                 << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
     }
     return 0;

@@ -14,9 +14,6 @@ void TaskParams::Validate(const std::string& source) const {
     throw ConfigError("config error in " + source + ": key 'task." + key + "': " + what);
   };
   if (!std::isfinite(angle)) fail("angle", "must be finite");
-  if (turn != "three" && turn != "four" && turn != "continuous" && turn != "auto") {
-    fail("turn", "must be 'auto', 'continuous', 'four' or 'three' (the paper's)");
-  }
 }
 
 bool TaskParams::has_goals() const { return !goals.empty() || random_goals > 0; }

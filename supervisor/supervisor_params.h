@@ -4,6 +4,7 @@
 
 #include "components/runtime/params.h"
 #include "supervisor/goal_planner.h"
+#include "supervisor/turn_mode.h"
 
 namespace dmpl {
 
@@ -25,11 +26,9 @@ struct TaskParams {
   double goal_hold_s = 0.5;
   double goal_timeout_s = 30.0;
   double step = 0.17453292519943295;    // rad: one gait step (the paper's 10 deg)
-  // Who turns the object in a gait: "three" (the paper's A2..A11: the explorer reaches its point,
-  // then three turn), "four" (the explorer moves while three hold still, grips again, then all
-  // four turn: A1), "continuous" (three turn while the explorer slides) or "auto" (continuous
-  // when the three can turn the object about the step's axis, else four). See RegraspChart.
-  std::string turn = "three";
+  // Who turns the object in a gait: three (the paper's), four, continuous or auto
+  // (turn_mode.h; RegraspChart).
+  TurnParam turn;
   double angular_speed = 0.25;          // rad/s of the object reference
   // rad/s of a turn made while an explorer slides (turn: continuous, auto); 0: angular_speed.
   // Such a turn only has to end with the explore, and three fingers turn more gently than four.

@@ -268,7 +268,8 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
     const std::string key = "tasks[" + std::to_string(i) + "]";
     CTask task;
     task.name = ty.name.empty() ? key : ty.name;
-    task.type = c.Pick<std::string>(key + ".type", ty.type, {{"local", "local"}, {"gait", "gait"}});
+    task.type = c.Pick<TaskType>(key + ".type", ty.type,
+                                 {{"local", TaskType::kLocal}, {"gait", TaskType::kGait}});
     task.done_when = ParseCondition(c, key + ".done_when", ty.done_when);
     task.duration_s = ty.duration_s;
     task.timeout_s = ty.timeout_s;
@@ -284,7 +285,7 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
             ParsePTask(c, key + ".fingers." + f + "[" + std::to_string(k) + "]", seq[k]));
       }
     }
-    if (task.type == "local" && task.fingers.empty()) {
+    if (task.type == TaskType::kLocal && task.fingers.empty()) {
       c.Fail(key + ".fingers", "a local task needs the PTasks of its fingers");
     }
     if (ty.object_motion) {
@@ -301,7 +302,7 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
       om.angle_in_task_units = units == "task";
       om.max_angular_speed = m.max_angular_speed;
       task.motion = om;
-    } else if (task.done_when == Condition::kMotionDone && task.type == "local") {
+    } else if (task.done_when == Condition::kMotionDone && task.type == TaskType::kLocal) {
       c.Fail(key + ".done_when", "motion_done needs an object_motion");
     }
     t.tasks.push_back(task);

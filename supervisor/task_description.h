@@ -57,9 +57,12 @@ struct ObjectMotion {
   double max_angular_speed = 0.0;             // rad/s; <= 0: task.angular_speed
 };
 
+// A local task (per-finger PTask sequences, the paper's Fig. 6) or a gait (the regrasp chart).
+enum class TaskType { kLocal, kGait };
+
 struct CTask {
   std::string name;
-  std::string type = "local";                 // local | gait
+  TaskType type = TaskType::kLocal;
   std::map<std::string, std::vector<PTask>> fingers;  // finger -> PTask sequence
   std::optional<ObjectMotion> motion;
   Condition done_when = Condition::kMotionDone;

@@ -179,7 +179,7 @@ std::vector<std::string> RunGait(Driver* d) {
 
 TEST(SupervisorTest, GaitRunsThePapersRegraspCycleUntilTheGoal) {
   TaskParams tp;
-  tp.turn = "three";
+  tp.turn.mode = TurnMode::kThreeFingers;
   tp.angle = 0.35;  // two steps of 10 deg and a partial one
   Driver d("fig10_gait", tp);
   EXPECT_EQ(RunGait(&d), (std::vector<std::string>{"A2 TFM rotate", "A3 R grip", "A7 M explore",
@@ -192,7 +192,7 @@ TEST(SupervisorTest, GaitRunsThePapersRegraspCycleUntilTheGoal) {
 
 TEST(SupervisorTest, FourFingerGaitTurnsWithAllFourAfterEachRegrasp) {
   TaskParams tp;
-  tp.turn = "four";
+  tp.turn.mode = TurnMode::kFourFingers;
   tp.angle = 0.35;
   Driver d("fig10_gait", tp);
   EXPECT_EQ(RunGait(&d), (std::vector<std::string>{"A3 R grip", "A1 TFMR rotate", "A7 M explore",
@@ -206,7 +206,7 @@ TEST(SupervisorTest, FourFingerGaitTurnsWithAllFourAfterEachRegrasp) {
 // The explorer's target for the first step: `steps` steps back about +x from R's home.
 void ExpectExplorerBack(const std::string& turn, double steps) {
   TaskParams tp;
-  tp.turn = turn;
+  tp.turn = TurnParam::FromYaml(YAML::Node(turn));
   Driver d("fig10_gait", tp);
   // Tips where a grasp of the 2.5 cm sphere puts them.
   const Eigen::Vector3d c(0.07, 0.0, 0.015);
@@ -238,8 +238,14 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
     }
     return std::string();
   };
-  EXPECT_NE(error([](TaskParams* t) { t->turn = "two"; }).find("key 'task.turn'"),
-            std::string::npos);
+  try {  // a turn mode is parsed once, where the config is read
+    TaskParams tp;
+    YamlReadArchive::Load(YAML::Load("{turn: two}"), "exp.yaml", "task", &tp);
+    ADD_FAILURE() << "turn: two was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'task.turn'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'three' (the paper's)"), std::string::npos) << e.what();
+  }
   EXPECT_NE(error([](TaskParams* t) { t->step = 0; }).find("key 'task.step'"), std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->goal_tolerance_rad = 0; }).find("task.goal_tolerance_rad"),
             std::string::npos);
