@@ -1,5 +1,5 @@
 // dmpl_supervisor: the grasp and regrasp statecharts on LCM. Reads sections: run, hand, task,
-// supervisor. It answers every DMPL_CONTROLLER_REPORT k (one every controller.report_period_ticks)
+// supervisor. It answers every DMPL_CONTROLLER_REPORT k (one every controller.node.report_period_ticks)
 // with the DMPL_TASK of seq k; in lockstep the controller uses it from tick k + 1, so every task
 // takes effect at a defined tick.
 //   dmpl_supervisor --dot      prints the charts (grasp; regrasp per task.turn; Graphviz), exits

@@ -1,9 +1,9 @@
 // dmpl_controller: the local manipulation controller on LCM. Reads sections: run, hand, controller.
 // In: DMPL_SENSORS (sensed joints, object pose, fingertips), DMPL_TASK.
 // Out: DMPL_FINGER_TARGETS; DMPL_CONTROLLER_STATUS every tick (with its events) for logs and
-// tools; DMPL_CONTROLLER_REPORT every controller.report_period_ticks (with every event since the
+// tools; DMPL_CONTROLLER_REPORT every controller.node.report_period_ticks (with every event since the
 // last report) for the supervisor.
-// Lockstep: tick k runs when the sensed data of tick k and (controller.wait_for_task) the task
+// Lockstep: tick k runs when the sensed data of tick k and (controller.node.wait_for_task) the task
 // that answers the last report before tick k have arrived, so a task takes effect at a defined
 // tick.
 #include <iterator>
@@ -30,12 +30,12 @@ class ControllerNode : public Node {
   ControllerNode(const NodeContext& ctx, HandModel model, const ControllerParams& params)
       : Node(ctx),
         lockstep_(ctx.run.lockstep),
-        wait_for_task_(params.wait_for_task),
+        wait_for_task_(params.node.wait_for_task),
         model_(std::move(model)),
         kin_(model_),
         core_(kin_, params, ctx.run.tick_s),
-        report_period_(params.report_period_ticks),
-        gate_(MakeGate(params.wait_for_task, params.report_period_ticks,
+        report_period_(params.node.report_period_ticks),
+        gate_(MakeGate(params.node.wait_for_task, params.node.report_period_ticks,
                        ctx.run.resend_after_s > 0)) {
     KeepForResend(ctx.run, 8);  // targets and reports
     const int nf = kin_.num_fingers();

@@ -42,6 +42,22 @@ struct NormalsAimParams {
   }
 };
 
+// Section `controller.node`: the controller node's exchange with the supervisor, apart from the
+// control itself.
+struct ControllerNodeParams {
+  bool wait_for_task = true;  // lockstep: tick k waits for the supervisor's answer to k - 1
+  // The supervisor's period: every this many ticks the controller reports (DMPL_CONTROLLER_REPORT,
+  // with the events since the last report) and the supervisor answers; a task takes effect the
+  // tick after the report it answers. Its full status goes out every tick all the same.
+  int report_period_ticks = 10;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(wait_for_task));
+    a->Visit(DMPL_NVP(report_period_ticks), InRange(1, 1000));
+  }
+};
+
 // Section `controller`. Gains are hand-set defaults; tools/dmpl calibrate can fit them.
 struct ControllerParams {
   // Position planner (equations 1-2) and the object reference (Fig. 1).
@@ -90,11 +106,7 @@ struct ControllerParams {
   double tracking_error_rad = 0.15;      // TRACKING_ERROR event above this
   double stable_force_tolerance = 0.35;  // |f - f*| < tol * f* for every grip finger...
   double stable_hold_s = 0.15;           // ...this long: GRASP_STABLE
-  bool wait_for_task = true;             // lockstep: tick k waits for the supervisor's answer to k-1
-  // The supervisor's period: every this many ticks the controller reports (DMPL_CONTROLLER_REPORT,
-  // with the events since the last report) and the supervisor answers; a task takes effect the
-  // tick after the report it answers. Its full status goes out every tick all the same.
-  int report_period_ticks = 10;
+  ControllerNodeParams node;             // how the node meets the supervisor (not the control)
   // Tactile calibration (tools/dmpl calibrate): force = (sensed - bias) / scale, contact point =
   // sensed - offset.
   double tactile_force_scale = 1.0;
@@ -141,8 +153,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(tracking_error_rad));
     a->Visit(DMPL_NVP(stable_force_tolerance));
     a->Visit(DMPL_NVP(stable_hold_s));
-    a->Visit(DMPL_NVP(wait_for_task));
-    a->Visit(DMPL_NVP(report_period_ticks), InRange(1, 1000));
+    a->Visit(DMPL_NVP(node));
     a->Visit(DMPL_NVP(tactile_force_scale), Above(0));
     a->Visit(DMPL_NVP(tactile_force_bias));
     a->Visit(DMPL_NVP(tactile_position_offset));

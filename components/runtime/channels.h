@@ -12,7 +12,7 @@ inline constexpr char kSensors[] = "DMPL_SENSORS";
 inline constexpr char kFingerTargets[] = "DMPL_FINGER_TARGETS";
 inline constexpr char kJointCmd[] = "DMPL_JOINT_CMD";
 inline constexpr char kIkStatus[] = "DMPL_IK_STATUS";
-// Supervisor <-> controller: a report every controller.report_period_ticks, answered by a task.
+// Supervisor <-> controller: a report every controller.node.report_period_ticks, answered by a task.
 inline constexpr char kTask[] = "DMPL_TASK";
 inline constexpr char kControllerReport[] = "DMPL_CONTROLLER_REPORT";
 // The controller's status of every tick (logs, calibration, metrics, lcm-spy).

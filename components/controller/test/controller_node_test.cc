@@ -23,7 +23,7 @@ using testing::NodeHarness;
 class ControllerNodeTest : public ::testing::Test {
  protected:
   ControllerNodeTest()
-      : harness_(kControllerNode, {"run.lockstep=true", "controller.report_period_ticks=10"}),
+      : harness_(kControllerNode, {"run.lockstep=true", "controller.node.report_period_ticks=10"}),
         targets_(harness_.Collect<finger_targets_t>(channels::kFingerTargets)),
         reports_(harness_.Collect<controller_status_t>(channels::kControllerReport)),
         statuses_(harness_.Collect<controller_status_t>(channels::kControllerStatus)) {
