@@ -107,6 +107,21 @@ class Supervisor : private RegraspActions {
   bool GoalReached() const override;
   bool CanTurnWithout(const std::string& finger) const override;
   Eigen::Vector3d StepAxis() const;  // the axis the next step turns about
+  // Whether the fingers stand around `axis` (gait.overlap_about, within overlap_max_tilt_rad).
+  bool AroundFingers(const Eigen::Vector3d& axis) const;
+  // The largest step the fingers' spacing around `axis` allows (gait.tip_clearance_m): between
+  // two explores of a finger the one it slides back toward rides n - 1 steps toward it, so the
+  // fingers' spacing (2 pi / n) must hold n - 1 steps and the angle two fingertips need at the
+  // distance they stand from the axis (sensed: tips and object estimate).
+  double GaitStepLimit(const Eigen::Vector3d& axis) const;
+  // The explorer's point moved forward (about `axis`, by `sign`) until it keeps the clearance
+  // from the finger it slides back toward, where that finger will be after `step`.
+  Eigen::Vector3d KeepClear(int explorer, const Eigen::Vector3d& axis, double sign, double step,
+                            bool neighbour_rides, const Eigen::Vector3d& target) const;
+  double StepSize() const;           // the task's step, or less (GaitStepLimit)
+  // While a finger explores: its point moved again by KeepClear from where the finger it slides
+  // toward is now (and the rest of the step it will still turn).
+  void KeepExplorerClear();
   double StepSpeed() const;          // the reference's speed in the step under way
 
   // Commands.
@@ -176,7 +191,14 @@ class Supervisor : private RegraspActions {
   double phase_since_ = 0.0;
   int explorer_ = -1;
   double step_ = 0.0;  // the rotation step under way
+  double step_limit_ = 0.0;  // GaitStepLimit at the last explore (0: none)
   Eigen::Vector3d explore_target_ = Eigen::Vector3d::Zero();
+  // The explorer's point before KeepClear, and how to keep it clear while it slides (the
+  // finger it slides toward keeps moving, and so may the object).
+  Eigen::Vector3d explore_point_ = Eigen::Vector3d::Zero();
+  bool explore_spaced_ = false;
+  bool explore_neighbour_rides_ = false;
+  double explore_sign_ = 1.0;
   bool gait_done_ = false;
   GoalSequence goals_;
 

@@ -69,9 +69,16 @@ void Supervisor::Explore(const std::string& finger) {
   const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers ||
                     (regrasp_.turn() == RegraspChart::Turn::kAuto && !regrasp_.overlapping());
   const double rides = four ? n : n - 1;
-  const double back = -sign * task_params_.explore_travel * rides * task_params_.step / 2.0;
+  const bool spaced = tasks_.gait.tip_clearance_m > 0 && AroundFingers(axis);
+  step_limit_ = spaced ? GaitStepLimit(axis) : 0.0;
+  const double step = StepSize();
+  const double back = -sign * task_params_.explore_travel * rides * step / 2.0;
   const Eigen::AngleAxisd turn(back, axis);
-  explore_target_ = view_.object.translation() + turn * (home_[f] - home_centre_);
+  explore_point_ = view_.object.translation() + turn * (home_[f] - home_centre_);
+  explore_spaced_ = spaced;
+  explore_neighbour_rides_ = !four;
+  explore_sign_ = sign;
+  explore_target_ = spaced ? KeepClear(f, axis, sign, step, !four, explore_point_) : explore_point_;
   NewTask(regrasp_.last_action());
   for (size_t k = 0; k < fingers_.size(); ++k) {
     if (static_cast<int>(k) == f) {
@@ -91,7 +98,7 @@ void Supervisor::Rotate(const std::string& grippers) {
   if (task_params_.has_goals()) {
     // One step from where the object is toward the current goal, the shortest way.
     const AxisAngle to_goal = RotationToGoal(SensedOrientation(), goals_.current());
-    step_ = std::min(task_params_.step, to_goal.angle);
+    step_ = std::min(StepSize(), to_goal.angle);
     goal_.linear() =
         (Eigen::AngleAxisd(step_, to_goal.axis) * SensedOrientation()).toRotationMatrix();
     has_goal_ = true;
@@ -103,7 +110,7 @@ void Supervisor::Rotate(const std::string& grippers) {
     return;
   }
   const double remaining = rotation_goal_ - rotation_commanded_;
-  step_ = std::copysign(std::min(task_params_.step, std::abs(remaining)), remaining);
+  step_ = std::copysign(std::min(StepSize(), std::abs(remaining)), remaining);
   RotateGoal(Axis("task"), step_);
 }
 
@@ -120,6 +127,120 @@ Eigen::Vector3d Supervisor::StepAxis() const {
   return task_params_.has_goals() ? RotationToGoal(SensedOrientation(), goals_.current()).axis
                                   : Axis("task");
 }
+
+namespace {
+// An orthonormal basis (u, v) of the plane normal to `axis` (unit).
+void PlaneBasis(const Eigen::Vector3d& axis, Eigen::Vector3d* u, Eigen::Vector3d* v) {
+  *u = axis.unitOrthogonal();
+  *v = axis.cross(*u);
+}
+double AngleAbout(const Eigen::Vector3d& p, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  return std::atan2(p.dot(v), p.dot(u));
+}
+double Radial(const Eigen::Vector3d& p, const Eigen::Vector3d& axis) {
+  return (p - p.dot(axis) * axis).norm();
+}
+double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
+// The angle two fingertips `clearance` apart need at `radius` from the axis.
+double GapAngle(double clearance, double radius) {
+  return radius <= 0 ? M_PI : 2.0 * std::asin(std::min(1.0, clearance / (2.0 * radius)));
+}
+}  // namespace
+
+double Supervisor::StepSize() const {
+  return step_limit_ > 0 ? std::min(task_params_.step, step_limit_) : task_params_.step;
+}
+
+bool Supervisor::AroundFingers(const Eigen::Vector3d& axis) const {
+  const Eigen::Vector3d about(tasks_.gait.overlap_about[0], tasks_.gait.overlap_about[1],
+                              tasks_.gait.overlap_about[2]);
+  return std::abs(axis.normalized().dot(about.normalized())) >=
+         std::cos(tasks_.gait.overlap_max_tilt_rad);
+}
+
+double Supervisor::GaitStepLimit(const Eigen::Vector3d& axis_in) const {
+  const Eigen::Vector3d axis = axis_in.normalized();
+  const size_t n = fingers_.size();
+  // Only for fingers that stand around the axis (their homes at distinct angles about it).
+  Eigen::Vector3d u, v;
+  PlaneBasis(axis, &u, &v);
+  std::vector<double> angles;
+  for (size_t k = 0; k < n; ++k) angles.push_back(AngleAbout(home_[k] - home_centre_, u, v));
+  std::sort(angles.begin(), angles.end());
+  for (size_t k = 1; k < n; ++k) {
+    if (!(angles[k] - angles[k - 1] > 1e-6)) return 0.0;
+  }
+  // How far the fingertips stand from the axis now (the closest one: an elongated section
+  // brings some closer).
+  const Eigen::Vector3d centre = view_.object.translation();
+  double radius = 0.0;
+  bool any = false;
+  for (size_t k = 0; k < n; ++k) {
+    if (!view_.fingers[k].in_contact) continue;
+    const double r = Radial(view_.fingers[k].tip - centre, axis);
+    radius = any ? std::min(radius, r) : r;
+    any = true;
+  }
+  if (!any || !(radius > 0)) return 0.0;
+  // The fingers stand around the axis 2 pi / n apart on average (a grasp that left two closer
+  // leaves two further apart, and KeepClear keeps an explorer off the closer one).
+  const double spacing = 2.0 * M_PI / static_cast<double>(n);
+  const double limit =
+      (spacing - GapAngle(tasks_.gait.tip_clearance_m, radius)) / static_cast<double>(n - 1);
+  // Too small an object to gait at all with these fingers: the smallest steps still try.
+  return std::max(limit, task_params_.step / 4.0);
+}
+
+Eigen::Vector3d Supervisor::KeepClear(int explorer, const Eigen::Vector3d& axis_in, double sign,
+                                      double step, bool neighbour_rides,
+                                      const Eigen::Vector3d& target) const {
+  const Eigen::Vector3d axis = axis_in.normalized();
+  Eigen::Vector3d u, v;
+  PlaneBasis(axis, &u, &v);
+  const Eigen::Vector3d centre = view_.object.translation();
+  const double own = AngleAbout(view_.fingers[explorer].tip - centre, u, v);
+  // The finger the explorer slides back toward: the nearest one behind it.
+  int neighbour = -1;
+  double nearest = 2.0 * M_PI;
+  for (size_t k = 0; k < fingers_.size(); ++k) {
+    if (static_cast<int>(k) == explorer) continue;
+    double behind = sign * (own - AngleAbout(view_.fingers[k].tip - centre, u, v));
+    behind = std::fmod(behind + 4.0 * M_PI, 2.0 * M_PI);
+    if (behind < nearest) {
+      nearest = behind;
+      neighbour = static_cast<int>(k);
+    }
+  }
+  if (neighbour < 0) return target;
+  const Eigen::Vector3d other = view_.fingers[neighbour].tip - centre;
+  const double other_end = AngleAbout(other, u, v) + (neighbour_rides ? sign * step : 0.0);
+  const Eigen::Vector3d offset = target - centre;
+  const double ahead = WrapPi(sign * (AngleAbout(offset, u, v) - other_end));
+  const double gap = GapAngle(tasks_.gait.tip_clearance_m,
+                              std::min(Radial(offset, axis), Radial(other, axis)));
+  if (ahead >= gap) return target;
+  return centre + Eigen::AngleAxisd(sign * (gap - ahead), axis) * offset;
+}
+
+void Supervisor::KeepExplorerClear() {
+  if (!explore_spaced_ || explorer_ < 0) return;
+  const Eigen::Vector3d axis = StepAxis().normalized();
+  // What the step still has to turn about the axis: the finger it slides toward rides it.
+  double remaining = 0.0;
+  if (explore_neighbour_rides_ && has_goal_) {
+    const Eigen::AngleAxisd left(goal_.linear() * view_.object.linear().transpose());
+    remaining = std::clamp(std::abs(left.angle() * left.axis().dot(axis)), 0.0, std::abs(step_));
+  }
+  const Eigen::Vector3d target =
+      KeepClear(explorer_, axis, explore_sign_, remaining, explore_neighbour_rides_,
+                explore_point_);
+  if ((target - explore_target_).norm() < 1e-3) return;  // not for the estimate's noise
+  explore_target_ = target;
+  out_.task.fingers[explorer_].target = target;
+  reached_[explorer_] = false;
+  out_.changed = true;
+}
+
 
 bool Supervisor::CanTurnWithout(const std::string& /*finger*/) const {
   // The fingers stand around one axis of the palm (gait.overlap_about): about it, any three of
@@ -173,6 +294,7 @@ void Supervisor::TickGait() {
     if (!grasp_.is(GraspState::Tasks)) return;
   }
   if (regrasp_.exploring()) {
+    KeepExplorerClear();
     const bool there = explorer_ >= 0 && reached_[explorer_] && view_.fingers[explorer_].in_contact;
     // Continuous: the three turn the object while the explorer slides; both must be done.
     const bool turned = !regrasp_.overlapping() || StepDone(in_phase);

@@ -126,7 +126,16 @@ void Supervisor::PauseAndRegrip(const std::string& why) {
   }
   NewTask("recover");
   AllGrip();
+  // The orientation where the object is (what turned, turned), the position where the task held
+  // it: an object that drifted away from a finger that lost it is brought back into that
+  // finger's reach instead of being held where the finger cannot touch it.
+  const Eigen::Vector3d position = goal_.translation();
+  const bool had_goal = has_goal_;
   HoldObjectWhereItIs();
+  if (had_goal) {
+    goal_.translation() = position;
+    out_.task.object_target = goal_;
+  }
   Note("recovering: " + why);
 }
 

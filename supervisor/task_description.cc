@@ -102,6 +102,7 @@ struct GaitYaml {
   double settle_time_s = 0.3;
   std::array<double, 3> overlap_about = {1.0, 0.0, 0.0};
   double overlap_max_tilt_rad = 0.5;
+  double tip_clearance_m = 0.0;
   template <typename A>
   void Serialize(A* a) {
     a->Visit(DMPL_NVP(order));
@@ -112,6 +113,7 @@ struct GaitYaml {
     a->Visit(DMPL_NVP(settle_time_s));
     a->Visit(DMPL_NVP(overlap_about));
     a->Visit(DMPL_NVP(overlap_max_tilt_rad));
+    a->Visit(DMPL_NVP(tip_clearance_m));
   }
 };
 
@@ -262,6 +264,10 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
   }
   t.gait.overlap_about = about;
   t.gait.overlap_max_tilt_rad = y.gait.overlap_max_tilt_rad;
+  if (!(y.gait.tip_clearance_m >= 0 && y.gait.tip_clearance_m <= 0.1)) {
+    c.Fail("gait.tip_clearance_m", "must be in [0, 0.1] m");
+  }
+  t.gait.tip_clearance_m = y.gait.tip_clearance_m;
   if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
   for (size_t i = 0; i < y.tasks.size(); ++i) {
     const CTaskYaml& ty = y.tasks[i];

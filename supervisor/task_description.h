@@ -93,6 +93,11 @@ struct GaitSpec {
   // else all four turn after the explorer has gripped again.
   std::array<double, 3> overlap_about = {1.0, 0.0, 0.0};
   double overlap_max_tilt_rad = 0.5;
+  // The hand's: how far apart two fingertip centres must stay (their spheres' diameter and a
+  // margin); 0: not checked. Around a small object the fingers stand close together: a step
+  // turns at most what leaves this between an explorer and the finger it slides back toward
+  // (Supervisor::GaitStepLimit), and an explorer's point keeps it from that finger.
+  double tip_clearance_m = 0.0;
 };
 
 struct TaskFile {

@@ -94,6 +94,12 @@ struct ControllerParams {
   // Hybrid control (exploration): tangential motion toward the finger's target point.
   double hybrid_tangential_gain = 2.0;   // 1/s
   double hybrid_max_speed = 0.02;        // m/s
+  // A grip finger that has lost its contact (or not yet found it) approaches the object by a
+  // guarded move: its target leads its tip by this toward the object until the tactile sensor
+  // reports contact, so that a finger stopped by something other than its tactile tip (a
+  // phalanx against the object's body, another finger) presses lightly instead of with the
+  // force loop's whole wound-up reach (force.integral_limit). 0: the force loop's push.
+  double guarded_approach_lead_m = 0.0;
   // Finger position control (approach without contact).
   double approach_speed = 0.03;          // m/s
   double target_tolerance_m = 0.002;
@@ -143,6 +149,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));
     a->Visit(DMPL_NVP(hybrid_max_speed), Above(0));
+    a->Visit(DMPL_NVP(guarded_approach_lead_m), InRange(0, 0.02));
     a->Visit(DMPL_NVP(approach_speed), Above(0));
     a->Visit(DMPL_NVP(target_tolerance_m));
     a->Visit(DMPL_NVP(contact_threshold_n));

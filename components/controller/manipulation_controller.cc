@@ -248,6 +248,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
   AdvanceClock(in.time_s);
   const std::vector<Eigen::Vector3d> tips = TipPositions(in.q);
   UpdateContacts(in);
+  const SensedInput located = LocateContacts(in, tips);
   UpdateObjectEstimate(in);
   ApplyTask(task, tips);
   out_.task_id = task_id_;
@@ -257,7 +258,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
   out_.tracking_error_rad = moving ? AngleBetween(estimate_.linear(), reference_.linear()) : 0.0;
   out_.tracking_error_m =
       moving ? (estimate_.translation() - reference_.translation()).norm() : 0.0;
-  const GripPlan grip = PlanGrip(in, tips, moving);
+  const GripPlan grip = PlanGrip(located, tips, moving);
   // The position planner: where each tip goes if it moves rigidly with the object (eq. 1-2).
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
   if (moving) motion = ObjectMotion(estimate_, reference_);
@@ -281,10 +282,10 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
         StepPosition(f, tips[f]);
         break;
       case Primitive::kComposite:
-        o.desired_force = StepComposite(f, in.tips[f], tips[f], grip, object);
+        o.desired_force = StepComposite(f, located.tips[f], tips[f], grip, object);
         break;
       case Primitive::kHybrid:
-        o.desired_force = StepHybrid(f, in.tips[f], tips[f], grip.centre);
+        o.desired_force = StepHybrid(f, located.tips[f], tips[f], grip.centre);
         break;
     }
     o.target = s.target;
@@ -333,6 +334,30 @@ std::vector<Eigen::Vector3d> ManipulationController::TipPositions(const std::vec
   return tips;
 }
 
+// Where each finger touches the object, as far as the controller can tell: the sensed point
+// while the sensor reads a contact, the last one (moved with the tip) while a lost reading is
+// being debounced, else the tip centre. A sensor without contact reports no point (zeros): it
+// must never be taken for one, or an explorer's normal and the grip's directions aim at the
+// palm's origin.
+SensedInput ManipulationController::LocateContacts(const SensedInput& in,
+                                                   const std::vector<Eigen::Vector3d>& tips) {
+  SensedInput located = in;
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    FingerState& s = fingers_[f];
+    Eigen::Vector3d& point = located.tips[f].position;
+    if (in.tips[f].in_contact && in.tips[f].force > params_.contact_threshold_n) {
+      s.contact_offset = point - tips[f];
+      s.has_contact_offset = true;
+    } else if (s.contact && s.has_contact_offset) {
+      point = tips[f] + s.contact_offset;
+    } else {
+      if (!s.contact) s.has_contact_offset = false;
+      point = tips[f];
+    }
+  }
+  return located;
+}
+
 // The object reference: small steps of bounded speed toward the goal (Fig. 1). Returns its
 // motion this tick, in the palm frame, which carries the grip fingers' anchors along
 // (feedforward).
@@ -358,7 +383,7 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
   g.contacts.resize(nf);
   g.in_grip.assign(nf, false);
   for (int f = 0; f < nf; ++f) {
-    g.contacts[f] = in.tips[f].in_contact ? in.tips[f].position : tips[f];
+    g.contacts[f] = in.tips[f].position;  // located: the tip centre where nothing touches
     g.in_grip[f] = fingers_[f].task.role == Role::kGrip &&
                    fingers_[f].task.primitive == Primitive::kComposite && fingers_[f].contact;
   }
@@ -523,6 +548,13 @@ double ManipulationController::StepComposite(int f, const SensedTip& sensed,
   direction.normalize();
   if (!direction.allFinite()) direction.setZero();
   s.last_direction = direction;
+  if (!s.contact && params_.guarded_approach_lead_m > 0) {
+    // No contact: a guarded move toward the object; the force loop waits for a contact.
+    s.integral = 0.0;
+    s.anchor = tip;
+    s.target = tip + params_.guarded_approach_lead_m * direction;
+    return desired;
+  }
   s.anchor = tip + ClampNorm(s.anchor - tip, params_.max_anchor_offset_m);
   s.target = s.anchor + displacement +
              direction * ForceTerm(&s, params_.force, desired, sensed.force);

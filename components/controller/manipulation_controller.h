@@ -54,6 +54,10 @@ class ManipulationController {
     double ramp_since = -1.0;
     Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
     Eigen::Vector3d last_direction = Eigen::Vector3d::Zero();
+    // The last sensed contact point relative to the tip centre: while a lost reading is being
+    // debounced (`contact` still true, no reading) the contact is taken to be where it was.
+    Eigen::Vector3d contact_offset = Eigen::Vector3d::Zero();
+    bool has_contact_offset = false;
   };
 
   // This tick's grip: who grips, where, and the force plan over them.
@@ -77,6 +81,7 @@ class ManipulationController {
   bool Validate(const SensedInput& in, std::string* why) const;
   void AdvanceClock(double time_s);
   std::vector<Eigen::Vector3d> TipPositions(const std::vector<double>& q);
+  SensedInput LocateContacts(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips);
   void ApplyTask(const TaskInput& task, const std::vector<Eigen::Vector3d>& tips);
   void UpdateObjectEstimate(const SensedInput& in);
   void UpdateContacts(const SensedInput& in);

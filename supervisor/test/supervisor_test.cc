@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "supervisor/supervisor.h"
 
 namespace dmpl {
@@ -225,6 +227,86 @@ void ExpectExplorerBack(const std::string& turn, double steps) {
       c + Eigen::AngleAxisd(-steps * tp.step, Eigen::Vector3d::UnitX()) *
               Eigen::Vector3d(0, -0.037, 0);
   EXPECT_LT((r.target - expected).norm(), 1e-9) << turn;
+}
+
+// Tips `radius` from the object's centre, 90 deg apart about x (T -z, F +y, M +z, R -y).
+void PlaceTips(Driver* d, double radius) {
+  const Eigen::Vector3d c = d->view.object.translation();
+  d->view.fingers[0].tip = c + Eigen::Vector3d(0, 0, -radius);
+  d->view.fingers[1].tip = c + Eigen::Vector3d(0, radius, 0);
+  d->view.fingers[2].tip = c + Eigen::Vector3d(0, 0, radius);
+  d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
+}
+
+TEST(SupervisorTest, GaitStepShrinksWhereTheFingersStandCloseTogether) {
+  // Around a 1.5 cm sphere the tip centres stand 2.7 cm from its centre: between two explores
+  // the finger an explorer slides back toward rides three steps toward it, and 90 deg less three
+  // steps must leave the angle two tips 2.6 cm apart need there (gait.tip_clearance_m).
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kContinuous;
+  tp.step = 0.26;
+  tp.angle = 6.0;
+  Driver d("fig10_gait", tp);
+  const double clearance = Load("fig10_gait").gait.tip_clearance_m;
+  ASSERT_GT(clearance, 0.0);
+  const double radius = 0.027;
+  PlaceTips(&d, radius);
+  d.Grasp();
+  const SupervisorOutput& out = d.Tick();
+  ASSERT_EQ(d.sup.task_name(), "gait");
+  const double limit = (M_PI / 2 - 2 * std::asin(clearance / (2 * radius))) / 3;
+  ASSERT_LT(limit, tp.step);
+  EXPECT_NEAR(d.sup.rotation_commanded(), limit, 1e-9);  // the first step, turned while R explores
+  // R goes back half of the three steps it rides, about the object's centre.
+  const Eigen::Vector3d c = d.view.object.translation();
+  const Eigen::Vector3d expected =
+      c + Eigen::AngleAxisd(-1.5 * limit, Eigen::Vector3d::UnitX()) *
+              Eigen::Vector3d(0, -radius, 0);
+  EXPECT_LT((out.task.fingers[3].target - expected).norm(), 1e-9);
+  // M, which turns toward R in this step, ends the step `clearance` from R's point.
+  const Eigen::Vector3d m_end =
+      c + Eigen::AngleAxisd(limit, Eigen::Vector3d::UnitX()) * Eigen::Vector3d(0, 0, radius);
+  EXPECT_GE((out.task.fingers[3].target - m_end).norm(), clearance - 1e-9);
+}
+
+TEST(SupervisorTest, GaitStepIsTheTasksAroundALargerObject) {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kContinuous;
+  tp.step = 0.26;
+  tp.angle = 6.0;
+  Driver d("fig10_gait", tp);
+  PlaceTips(&d, 0.037);  // the 2.5 cm sphere the gait was tuned on
+  d.Grasp();
+  d.Tick();
+  EXPECT_NEAR(d.sup.rotation_commanded(), tp.step, 1e-9);
+}
+
+TEST(SupervisorTest, ExplorersPointKeepsClearOfTheFingerItSlidesToward) {
+  // M stands closer to R than the others (a grasp that ended up uneven): R's point stops short.
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kContinuous;
+  tp.step = 0.26;
+  tp.angle = 6.0;
+  Driver d("fig10_gait", tp);
+  const double clearance = Load("fig10_gait").gait.tip_clearance_m;
+  const Eigen::Vector3d c = d.view.object.translation();
+  const double radius = 0.037;
+  PlaceTips(&d, radius);
+  // M 45 deg from +z toward R (-y), where R's usual point (22.5 deg back from -y) would be 7.5
+  // deg from M once M has turned its step: R's point stops `clearance` short of M.
+  const double m_angle = 45.0 * M_PI / 180.0;
+  d.view.fingers[2].tip = c + Eigen::AngleAxisd(m_angle, Eigen::Vector3d::UnitX()) *
+                                  Eigen::Vector3d(0, 0, radius);
+  d.Grasp();
+  const SupervisorOutput& out = d.Tick();
+  ASSERT_EQ(d.sup.task_name(), "gait");
+  const double step = d.sup.rotation_commanded();
+  EXPECT_NEAR(step, tp.step, 1e-9);  // the tips stand far enough from the axis for the full step
+  const Eigen::Vector3d m_end = c + Eigen::AngleAxisd(m_angle + step, Eigen::Vector3d::UnitX()) *
+                                        Eigen::Vector3d(0, 0, radius);
+  const Eigen::Vector3d target = out.task.fingers[3].target;
+  EXPECT_NEAR((target - m_end).norm(), clearance, 1e-6);
+  EXPECT_NEAR((target - c).norm(), radius, 1e-9);  // still on its circle about the object
 }
 
 TEST(SupervisorTest, BadTaskNumbersNameTheKey) {

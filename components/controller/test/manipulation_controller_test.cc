@@ -150,6 +150,89 @@ TEST(ManipulationControllerTest, HybridExplorationHoldsItsSmallForce) {
   }
 }
 
+// Runs a grip (and R exploring from tick 1000) on the plant for `ticks`; returns the last input.
+SensedInput SettleOnPlant(Fixture* fx, ManipulationController* ctl, SpherePlant* plant,
+                          int explorer, int ticks) {
+  SensedInput in = fx->Input(0);
+  std::vector<Eigen::Vector3d> tips;
+  for (int f = 0; f < 4; ++f) tips.push_back(fx->kin.TipPosition(f, fx->q));
+  plant->Apply(tips, &fx->q, &in);
+  for (int k = 0; k < ticks; ++k) {
+    in.seq = k;
+    in.time_s = k * 1e-3;
+    const ControllerOutput& out = ctl->Step(in, fx->Grip(k < 1000 ? -1 : explorer));
+    std::vector<Eigen::Vector3d> targets;
+    for (const auto& f : out.fingers) targets.push_back(f.target);
+    plant->Apply(targets, &fx->q, &in);
+  }
+  return in;
+}
+
+TEST(ManipulationControllerTest, ALostReadingIsNotTakenForAContactPointWhileDebounced) {
+  // A tactile sensor without contact reports no point (zeros). While the loss is debounced the
+  // finger still counts as touching; its contact stays where it was, or the explorer's normal
+  // and the grip's force directions would aim at the palm's origin.
+  Fixture fx;
+  ControllerParams params;
+  params.normals_aim.enabled = true;
+  ManipulationController ctl(fx.kin, params, 1e-3);
+  SpherePlant plant(fx.kin, fx.centre, 0.025, 50.0);  // soft: the targets lie millimetres in
+  const int r = fx.kin.FindFinger("R");
+  SensedInput in = SettleOnPlant(&fx, &ctl, &plant, r, 2000);
+  const int g = fx.kin.FindFinger("F");
+  const ControllerOutput& settled = ctl.output();
+  const Eigen::Vector3d explorer_target = settled.fingers[r].target;
+  const Eigen::Vector3d grip_push =
+      (settled.fingers[g].target - settled.fingers[g].tip).normalized();
+  const Eigen::Vector3d centroid = settled.contact_centroid;
+  for (int k = 0; k < params.contact_loss_ticks / 2; ++k) {
+    in.tips[r] = SensedTip{};  // the explorer's and a grip finger's readings drop
+    in.tips[g] = SensedTip{};
+    in.seq = 2000 + k;
+    in.time_s = in.seq * 1e-3;
+    const ControllerOutput& out = ctl.Step(in, fx.Grip(r));
+    EXPECT_TRUE(out.fingers[r].in_contact);  // debounced
+    EXPECT_TRUE(out.fingers[g].in_contact);
+    EXPECT_LT((out.fingers[r].target - explorer_target).norm(), 1e-3) << "tick " << k;
+    // The grip finger pushes harder (its force reads zero), but the same way.
+    const Eigen::Vector3d push = (out.fingers[g].target - out.fingers[g].tip).normalized();
+    EXPECT_GT(push.dot(grip_push), std::cos(0.2)) << "tick " << k;
+    EXPECT_LT((out.contact_centroid - centroid).norm(), 1e-3) << "tick " << k;
+  }
+}
+
+TEST(ManipulationControllerTest, ALostGripFingerApproachesByAGuardedMove) {
+  // Once its contact counts lost, a grip finger moves toward the object with its target a short
+  // lead ahead of its tip (controller.guarded_approach_lead_m), not the force loop's whole reach.
+  for (const double lead : {0.0, 0.004}) {
+    Fixture fx;
+    ControllerParams params;
+    params.guarded_approach_lead_m = lead;
+    ManipulationController ctl(fx.kin, params, 1e-3);
+    SpherePlant plant(fx.kin, fx.centre, 0.025, 300.0);
+    SensedInput in = SettleOnPlant(&fx, &ctl, &plant, -1, 1500);
+    const int f = fx.kin.FindFinger("F");
+    double reach = 0.0;
+    for (int k = 0; k < 500; ++k) {  // F's tip held where it is, its reading gone
+      in.tips[f] = SensedTip{};
+      in.seq = 1500 + k;
+      in.time_s = in.seq * 1e-3;
+      const ControllerOutput& out = ctl.Step(in, fx.Grip());
+      const FingerOutput& o = out.fingers[f];
+      if (k < params.contact_loss_ticks) continue;
+      EXPECT_FALSE(o.in_contact);
+      const Eigen::Vector3d ahead = o.target - o.tip;
+      reach = std::max(reach, ahead.norm());
+      EXPECT_GT(ahead.dot(fx.centre - o.tip), 0.0) << "toward the object";
+    }
+    if (lead > 0) {
+      EXPECT_LE(reach, lead + 1e-9);
+    } else {
+      EXPECT_GT(reach, 0.01);  // the force loop winds up to its integral limit
+    }
+  }
+}
+
 TEST(ManipulationControllerTest, NanInputIsRejectedAndTheTargetsHeld) {
   Fixture fx;
   ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);
