@@ -197,8 +197,19 @@ HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParam
 
 HandSim::~HandSim() = default;
 
+// Everything Bullet, in this order (the order is part of the simulation: the same world, the
+// same result).
 void HandSim::Build() {
   world_ = std::make_unique<World>();
+  ConfigureSolver();
+  AddHand();
+  AddHandColliders();
+  AddJointLimits();
+  AddObject();
+  SetInitialState();
+}
+
+void HandSim::ConfigureSolver() {
   World& w = *world_;
   const auto& p = sim_.physics;
   w.world.setGravity(btVector3(p.gravity[0], p.gravity[1], p.gravity[2]));
@@ -210,8 +221,12 @@ void HandSim::Build() {
   info.m_minimumSolverBatchSize = p.minimum_solver_batch_size;
   info.m_warmstartingFactor = p.warmstarting_factor;
   info.m_leastSquaresResidualThreshold = p.residual_threshold;
+}
 
-  // --- the hand ---
+// The hand as a fixed-base multibody, one link per URDF link (the palm is the base).
+void HandSim::AddHand() {
+  World& w = *world_;
+  const auto& p = sim_.physics;
   const auto& links = model_.links();
   const std::string& urdf = model_.urdf_path();
   const int num_links = static_cast<int>(links.size()) - 1;  // the palm is the base
@@ -247,8 +262,14 @@ void HandSim::Build() {
   w.hand->setAngularDamping(0.0);
   w.hand->setHasSelfCollision(p.self_collision);
   w.world.addMultiBody(w.hand.get());
+}
 
-  // Colliders: one compound per link, shapes placed relative to the link's centre of mass.
+// Colliders: one compound per link, shapes placed relative to the link's centre of mass.
+void HandSim::AddHandColliders() {
+  World& w = *world_;
+  const auto& p = sim_.physics;
+  const auto& links = model_.links();
+  const int num_links = static_cast<int>(links.size()) - 1;
   for (int l = 0; l <= num_links; ++l) {
     const LinkInfo& link = links[l];
     if (link.collisions.empty()) continue;
@@ -278,8 +299,14 @@ void HandSim::Build() {
     }
     w.colliders.push_back(std::move(collider));
   }
+}
 
-  // Joint limits, servo bookkeeping, gravity-compensation subtrees.
+// Joint limits, servo bookkeeping, gravity-compensation subtrees, the fingertips' colliders.
+void HandSim::AddJointLimits() {
+  World& w = *world_;
+  const auto& links = model_.links();
+  const std::string& urdf = model_.urdf_path();
+  const int num_links = static_cast<int>(links.size()) - 1;
   const int n = model_.num_actuated();
   w.bullet_link_of_joint.resize(n);
   w.subtree.assign(n, {});
@@ -310,8 +337,11 @@ void HandSim::Build() {
     }
     w.tip_colliders.push_back(tip);
   }
+}
 
-  // --- the object ---
+void HandSim::AddObject() {
+  World& w = *world_;
+  const auto& p = sim_.physics;
   const ObjectParams& o = object_params_;
   std::unique_ptr<btCollisionShape> shape;
   if (o.shape == "sphere") {
@@ -343,8 +373,11 @@ void HandSim::Build() {
   w.shapes.push_back(std::move(shape));
   w.world.addRigidBody(w.object.get(), btBroadphaseProxy::DefaultFilter,
                        btBroadphaseProxy::AllFilter);
+}
 
-  // Initial joints: from the config, else zero clamped into the limits.
+// Initial joints: from the config, else zero clamped into the limits; the object held or not.
+void HandSim::SetInitialState() {
+  const int n = model_.num_actuated();
   std::vector<double> q(n, 0.0);
   for (int a = 0; a < n; ++a) {
     const JointInfo& joint = model_.actuated_joint(a);
@@ -356,7 +389,7 @@ void HandSim::Build() {
   }
   SetJointPositions(q);
   held_ = false;
-  if (o.held) HoldObject();
+  if (object_params_.held) HoldObject();
   tactile_.assign(model_.fingers().size(), TipReading{});
   time_ = 0.0;
   steps_ = 0;

@@ -68,7 +68,13 @@ class HandSim {
 
  private:
   struct World;
-  void Build();
+  void Build();  // the phases below, in order
+  void ConfigureSolver();
+  void AddHand();
+  void AddHandColliders();
+  void AddJointLimits();
+  void AddObject();
+  void SetInitialState();
   void ApplyServoTorques();
   void ReadTactile();
 

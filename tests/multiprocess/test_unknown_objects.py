@@ -1,9 +1,9 @@
 """Issue 14: objects the controller was not tuned on, short turns in one-process mode (the whole
 benchmark is configs/benchmarks/unknown_objects.yaml, a sweep). The fast gait's grip (forces along
-the contact normals, raised on slips, a spring toward the task's position, 1.5 N per finger)
+the contact normals, raised on slips, a spring toward the task's position, 2 N per finger)
 holds a heavy, a slick, and a heavy and slick sphere through their explores, where the paper's
 grip (forces at the contacts' centroid, zero net force, a fixed 0.8 N) loses the slick one at the
-first."""
+first. Around a small sphere the steps shrink so that the fingers keep clear of each other."""
 import sys
 import tempfile
 import unittest
@@ -53,8 +53,17 @@ class UnknownObjectsTest(unittest.TestCase):
         self.assertEqual(s["status"], "failed")
         self.assertLess(s["rotation_total_rad"], 0.75)
 
+    def test_a_small_sphere_turns_in_smaller_steps(self):
+        # Around a 1.5 cm sphere the tip centres stand ~27 mm from the axis: steps of 0.26 rad
+        # would bring an explorer within 21 mm of its neighbour (two tips need 26 mm). The steps
+        # shrink to ~0.19 rad: eight of them for 1.5 rad instead of six.
+        s = turn("object.radius=0.015")
+        self.check_turned(s)
+        self.assertGreaterEqual(s["regrasps"], 7)
+
     def test_sizes_and_shapes(self):
-        for sets in (["object.radius=0.02"], ["object.radius=0.04"], CAPSULE, LONG_CYLINDER):
+        for sets in (["object.radius=0.02"], ["object.radius=0.04"], CAPSULE, LONG_CYLINDER,
+                     ["object.shape=ellipsoid", "object.radii=[0.035,0.025,0.02]"]):
             with self.subTest(sets=sets):
                 self.check_turned(turn(*sets))
 

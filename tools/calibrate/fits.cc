@@ -346,6 +346,9 @@ FitResult FitForceResponse(const LogData& data, std::vector<FingerModel>* models
                     "targets and tips); record a run with the controller");
   }
   std::vector<double> before, after;
+  std::string unidentified;  // fingers whose model ended at its bounds
+  constexpr double kMinStiffness = 1.0;  // N/m
+  constexpr double kMinRate = 1e-4;      // per tick
   for (int f = 0; f < nf; ++f) {
     // Runs of consecutive ticks in composite grip and contact, cut into windows.
     std::vector<ResponseWindow> windows;
@@ -396,8 +399,8 @@ FitResult FitForceResponse(const LogData& data, std::vector<FingerModel>* models
           new ceres::HuberLoss(0.1), p);
       for (int k = 0; k < kWindow; ++k) before.push_back(win.force[k] - win.force[0]);
     }
-    problem.SetParameterLowerBound(p, 0, 1.0);
-    problem.SetParameterLowerBound(p, 1, 1e-4);
+    problem.SetParameterLowerBound(p, 0, kMinStiffness);
+    problem.SetParameterLowerBound(p, 1, kMinRate);
     problem.SetParameterUpperBound(p, 1, 1.0);
     FitResult one;
     if (!Solve(&problem, &one)) {
@@ -414,13 +417,25 @@ FitResult FitForceResponse(const LogData& data, std::vector<FingerModel>* models
     result.params.push_back({data.fingers[f] + "_stiffness", p[0], sd[0], "N/m"});
     result.params.push_back({data.fingers[f] + "_rate", p[1], sd[1], "per tick"});
     result.samples += static_cast<int>(windows.size()) * kWindow;
+    // A model at its bounds says the finger's force did not follow its commands in these
+    // windows (it pressed on something other than its sensor, say): it cannot tell the gains
+    // anything, so the gains are chosen on the others.
+    if (p[0] <= kMinStiffness * (1 + 1e-6) || p[1] <= kMinRate * (1 + 1e-6)) {
+      unidentified += (unidentified.empty() ? "" : ", ") + data.fingers[f];
+      continue;
+    }
     models->push_back({data.fingers[f], p[0], p[1]});
   }
-  result.ok = true;
   result.rms_before = Rms(before);
   result.rms_after = Rms(after);
   result.message = "output error over windows of " + std::to_string(kWindow) +
                    " ticks; before: the force held at the window's first value";
+  if (!unidentified.empty()) {
+    result.message += "; not identified (a model at its bounds), left out of the gains: " +
+                      unidentified;
+  }
+  result.ok = !models->empty();
+  if (!result.ok) result.message = "no finger's force response was identified: " + unidentified;
   return result;
 }
 

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "tools/calibrate/fits.h"
@@ -89,6 +90,43 @@ TEST(FitsTest, TooFewSamplesAndNoExcitationAreClearErrors) {
   } catch (const DataError& e) {
     EXPECT_NE(std::string(e.what()).find("DMPL_CONTROLLER_STATUS"), std::string::npos);
   }
+}
+
+// Composite-grip ticks of two fingers: T's force follows F' = F + a (K d - F) on a varying
+// commanded penetration d; F's stays where it is whatever it is told (it presses on something
+// other than its sensor).
+LogData ForceResponses(int ticks) {
+  LogData data;
+  data.fingers = {"T", "F"};
+  double force_t = 0.8;
+  for (int k = 0; k < ticks; ++k) {
+    Tick& t = data.ticks[k];
+    t.has_control = true;
+    const double d = 0.002 + 0.001 * std::sin(k / 50.0);
+    for (int f = 0; f < 2; ++f) {
+      ControlSample c;
+      c.primitive = 2;
+      c.in_contact = true;
+      c.force = f == 0 ? force_t : 0.5;
+      c.tip = Eigen::Vector3d::Zero();
+      c.contact = Eigen::Vector3d(0, 0, 0.012);
+      c.target = Eigen::Vector3d(0, 0, d);
+      t.control.push_back(c);
+    }
+    force_t += 0.03 * (400.0 * d - force_t);
+  }
+  return data;
+}
+
+TEST(FitsTest, AFingerWhoseForceDoesNotFollowIsLeftOutOfTheGains) {
+  std::vector<FingerModel> models;
+  const FitResult r = FitForceResponse(ForceResponses(3000), &models);
+  ASSERT_TRUE(r.ok) << r.message;
+  ASSERT_EQ(models.size(), 1u);
+  EXPECT_EQ(models[0].finger, "T");
+  EXPECT_NEAR(models[0].stiffness, 400.0, 4.0);
+  EXPECT_NEAR(models[0].rate, 0.03, 0.001);
+  EXPECT_NE(r.message.find("left out of the gains: F"), std::string::npos) << r.message;
 }
 
 TEST(FitsTest, ChosenGainsAreStableAndBetterThanPoorOnes) {
