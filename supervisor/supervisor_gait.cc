@@ -20,6 +20,23 @@ std::string Fixed(double value, int digits = 2) {
   return os.str();
 }
 
+// An orthonormal basis (u, v) of the plane normal to `axis` (unit).
+void PlaneBasis(const Eigen::Vector3d& axis, Eigen::Vector3d* u, Eigen::Vector3d* v) {
+  *u = axis.unitOrthogonal();
+  *v = axis.cross(*u);
+}
+double AngleAbout(const Eigen::Vector3d& p, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  return std::atan2(p.dot(v), p.dot(u));
+}
+double Radial(const Eigen::Vector3d& p, const Eigen::Vector3d& axis) {
+  return (p - p.dot(axis) * axis).norm();
+}
+double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
+// The angle two fingertips `clearance` apart need at `radius` from the axis.
+double GapAngle(double clearance, double radius) {
+  return radius <= 0 ? M_PI : 2.0 * std::asin(std::min(1.0, clearance / (2.0 * radius)));
+}
+
 }  // namespace
 
 void Supervisor::StartGoals() {
@@ -128,25 +145,6 @@ Eigen::Vector3d Supervisor::StepAxis() const {
                                   : Axis("task");
 }
 
-namespace {
-// An orthonormal basis (u, v) of the plane normal to `axis` (unit).
-void PlaneBasis(const Eigen::Vector3d& axis, Eigen::Vector3d* u, Eigen::Vector3d* v) {
-  *u = axis.unitOrthogonal();
-  *v = axis.cross(*u);
-}
-double AngleAbout(const Eigen::Vector3d& p, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
-  return std::atan2(p.dot(v), p.dot(u));
-}
-double Radial(const Eigen::Vector3d& p, const Eigen::Vector3d& axis) {
-  return (p - p.dot(axis) * axis).norm();
-}
-double WrapPi(double a) { return std::remainder(a, 2.0 * M_PI); }
-// The angle two fingertips `clearance` apart need at `radius` from the axis.
-double GapAngle(double clearance, double radius) {
-  return radius <= 0 ? M_PI : 2.0 * std::asin(std::min(1.0, clearance / (2.0 * radius)));
-}
-}  // namespace
-
 double Supervisor::StepSize() const {
   return step_limit_ > 0 ? std::min(task_params_.step, step_limit_) : task_params_.step;
 }
@@ -240,7 +238,6 @@ void Supervisor::KeepExplorerClear() {
   reached_[explorer_] = false;
   out_.changed = true;
 }
-
 
 bool Supervisor::CanTurnWithout(const std::string& /*finger*/) const {
   // The fingers stand around one axis of the palm (gait.overlap_about): about it, any three of
