@@ -24,10 +24,8 @@ std::optional<HandReading> ToReading(const hand_sensors_t& m, std::string* why) 
     *why = "sensors of tick " + std::to_string(m.seq) + " with parts of other ticks";
     return std::nullopt;
   }
-  const size_t n = m.joints.name.size();
-  if (m.joints.num_joints < 0 || static_cast<size_t>(m.joints.num_joints) != n ||
-      m.joints.position.size() != n || m.joints.velocity.size() != n ||
-      m.joints.effort.size() != n) {
+  // The messages' count fields (the arrays' agreement with each other is the core's check).
+  if (m.joints.num_joints < 0 || static_cast<size_t>(m.joints.num_joints) != m.joints.name.size()) {
     *why = "joint state with inconsistent sizes";
     return std::nullopt;
   }

@@ -29,20 +29,18 @@ void SimScheduler::Begin(double now) {
 }
 
 SimScheduler::Verdict SimScheduler::OnCommand(JointCommand command, double now) {
+  // Before the start nothing can be due; in lockstep only the due command and those of ticks
+  // already published can be useful.
+  const bool useless = params_.lockstep && (command.seq < due_seq() || command.seq > tick_ ||
+                                            commands_.count(command.seq) != 0);
+  if (!started_ || useless) {
+    ++stale_;
+    return Verdict::kStale;
+  }
   if (params_.lockstep) {
-    // Only the due command and those of ticks already published can be useful.
-    if (!started_ || command.seq < due_seq() || command.seq > tick_ ||
-        commands_.count(command.seq) != 0) {
-      ++stale_;
-      return Verdict::kStale;
-    }
     commands_.emplace(command.seq, std::move(command));
     StepWhileReady(now);
     return Verdict::kQueued;
-  }
-  if (!started_) {
-    ++stale_;
-    return Verdict::kStale;
   }
   if (command.seq > tick_) return Verdict::kAhead;  // so at most d commands wait
   const int64_t seq = command.seq;

@@ -39,11 +39,7 @@ class SupervisorNodeTest : public ::testing::Test {
     return m;
   }
 
-  std::vector<int64_t> TaskSeqs() const {
-    std::vector<int64_t> s;
-    for (const task_cmd_t& t : tasks_) s.push_back(t.seq);
-    return s;
-  }
+  std::vector<int64_t> TaskSeqs() const { return testing::Seqs(tasks_); }
 
   NodeHarness harness_;
   std::deque<task_cmd_t>& tasks_;

@@ -205,17 +205,22 @@ TEST(SupervisorTest, FourFingerGaitTurnsWithAllFourAfterEachRegrasp) {
   EXPECT_EQ(d.sup.task_name(), "hold");
 }
 
+// Tips `radius` from the object's centre, 90 deg apart about x (T -z, F +y, M +z, R -y).
+void PlaceTips(Driver* d, double radius) {
+  const Eigen::Vector3d c = d->view.object.translation();
+  d->view.fingers[0].tip = c + Eigen::Vector3d(0, 0, -radius);
+  d->view.fingers[1].tip = c + Eigen::Vector3d(0, radius, 0);
+  d->view.fingers[2].tip = c + Eigen::Vector3d(0, 0, radius);
+  d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
+}
+
 // The explorer's target for the first step: `steps` steps back about +x from R's home.
 void ExpectExplorerBack(const std::string& turn, double steps) {
   TaskParams tp;
   tp.turn = TurnParam::FromYaml(YAML::Node(turn));
   Driver d("fig10_gait", tp);
-  // Tips where a grasp of the 2.5 cm sphere puts them.
-  const Eigen::Vector3d c(0.07, 0.0, 0.015);
-  d.view.fingers[0].tip = c + Eigen::Vector3d(0, 0, -0.037);
-  d.view.fingers[1].tip = c + Eigen::Vector3d(0, 0.037, 0);
-  d.view.fingers[2].tip = c + Eigen::Vector3d(0, 0, 0.037);
-  d.view.fingers[3].tip = c + Eigen::Vector3d(0, -0.037, 0);
+  PlaceTips(&d, 0.037);  // where a grasp of the 2.5 cm sphere puts them
+  const Eigen::Vector3d c = d.view.object.translation();
   d.Grasp();
   const SupervisorOutput& out = d.Tick();
   ASSERT_EQ(d.sup.regrasp().last_action(), "A4 R explore");
@@ -229,23 +234,21 @@ void ExpectExplorerBack(const std::string& turn, double steps) {
   EXPECT_LT((r.target - expected).norm(), 1e-9) << turn;
 }
 
-// Tips `radius` from the object's centre, 90 deg apart about x (T -z, F +y, M +z, R -y).
-void PlaceTips(Driver* d, double radius) {
-  const Eigen::Vector3d c = d->view.object.translation();
-  d->view.fingers[0].tip = c + Eigen::Vector3d(0, 0, -radius);
-  d->view.fingers[1].tip = c + Eigen::Vector3d(0, radius, 0);
-  d->view.fingers[2].tip = c + Eigen::Vector3d(0, 0, radius);
-  d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
+
+// A full turn in 0.26 rad steps, three fingers turning while the fourth slides.
+TaskParams ContinuousGait() {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kContinuous;
+  tp.step = 0.26;
+  tp.angle = 6.0;
+  return tp;
 }
 
 TEST(SupervisorTest, GaitStepShrinksWhereTheFingersStandCloseTogether) {
   // Around a 1.5 cm sphere the tip centres stand 2.7 cm from its centre: between two explores
   // the finger an explorer slides back toward rides three steps toward it, and 90 deg less three
   // steps must leave the angle two tips 2.6 cm apart need there (gait.tip_clearance_m).
-  TaskParams tp;
-  tp.turn.mode = TurnMode::kContinuous;
-  tp.step = 0.26;
-  tp.angle = 6.0;
+  const TaskParams tp = ContinuousGait();
   Driver d("fig10_gait", tp);
   const double clearance = Load("fig10_gait").gait.tip_clearance_m;
   ASSERT_GT(clearance, 0.0);
@@ -270,10 +273,7 @@ TEST(SupervisorTest, GaitStepShrinksWhereTheFingersStandCloseTogether) {
 }
 
 TEST(SupervisorTest, GaitStepIsTheTasksAroundALargerObject) {
-  TaskParams tp;
-  tp.turn.mode = TurnMode::kContinuous;
-  tp.step = 0.26;
-  tp.angle = 6.0;
+  const TaskParams tp = ContinuousGait();
   Driver d("fig10_gait", tp);
   PlaceTips(&d, 0.037);  // the 2.5 cm sphere the gait was tuned on
   d.Grasp();
@@ -283,10 +283,7 @@ TEST(SupervisorTest, GaitStepIsTheTasksAroundALargerObject) {
 
 TEST(SupervisorTest, ExplorersPointKeepsClearOfTheFingerItSlidesToward) {
   // M stands closer to R than the others (a grasp that ended up uneven): R's point stops short.
-  TaskParams tp;
-  tp.turn.mode = TurnMode::kContinuous;
-  tp.step = 0.26;
-  tp.angle = 6.0;
+  const TaskParams tp = ContinuousGait();
   Driver d("fig10_gait", tp);
   const double clearance = Load("fig10_gait").gait.tip_clearance_m;
   const Eigen::Vector3d c = d.view.object.translation();

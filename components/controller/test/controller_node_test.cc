@@ -70,11 +70,7 @@ class ControllerNodeTest : public ::testing::Test {
     return t;
   }
 
-  std::vector<int64_t> TargetSeqs() const {
-    std::vector<int64_t> s;
-    for (const finger_targets_t& t : targets_) s.push_back(t.seq);
-    return s;
-  }
+  std::vector<int64_t> TargetSeqs() const { return testing::Seqs(targets_); }
 
   NodeHarness harness_;
   std::deque<finger_targets_t>& targets_;

@@ -46,11 +46,7 @@ class IkNodeTest : public ::testing::Test {
     return t;
   }
 
-  std::vector<int64_t> Seqs() const {
-    std::vector<int64_t> s;
-    for (const joint_cmd_t& c : commands_) s.push_back(c.seq);
-    return s;
-  }
+  std::vector<int64_t> Seqs() const { return testing::Seqs(commands_); }
 
   NodeHarness harness_;
   std::deque<joint_cmd_t>& commands_;

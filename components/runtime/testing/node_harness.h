@@ -85,4 +85,12 @@ class NodeHarness {
   std::vector<std::unique_ptr<SinkBase>> sinks_;
 };
 
+// The seqs of collected messages, in the order they were published.
+template <typename Msg>
+std::vector<int64_t> Seqs(const std::deque<Msg>& messages) {
+  std::vector<int64_t> seqs;
+  for (const Msg& m : messages) seqs.push_back(m.seq);
+  return seqs;
+}
+
 }  // namespace dmpl::testing

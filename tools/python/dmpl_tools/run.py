@@ -181,9 +181,9 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
 
 
 def _tick_seconds(config):
-    """Simulated seconds per lockstep tick (the simulator's defaults when the config is silent)."""
-    sim = config.get("sim", {})
-    return float(sim.get("physics", {}).get("time_step", 0.001)) * int(sim.get("steps_per_tick", 1))
+    """Simulated seconds per lockstep tick: run.tick_s (the simulator refuses one that is not its
+    tick)."""
+    return float(config.get("run", {}).get("tick_s", 0.001))
 
 
 def record_policy(config, record):
