@@ -1,5 +1,7 @@
 #include "supervisor/regrasp_chart.h"
 
+#include <algorithm>
+
 #include "components/runtime/check.h"
 
 namespace dmpl {
@@ -28,22 +30,36 @@ const char* ToString(RegraspEvent e) {
 }
 
 namespace {
-constexpr RegraspState kExploreState[4] = {RegraspState::S2, RegraspState::S3, RegraspState::S4,
-                                           RegraspState::S5};
-const char* const kCanonical[4] = {"T", "F", "M", "R"};
+constexpr RegraspState kExploreState[RegraspChart::kFingers] = {
+    RegraspState::S2, RegraspState::S3, RegraspState::S4, RegraspState::S5};
 }  // namespace
 
-RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> order, Turn turn)
-    : actions_(actions), order_(std::move(order)), turn_(turn), chart_(Build()) {
+RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> fingers,
+                           std::vector<std::string> order, Turn turn)
+    : actions_(actions),
+      fingers_(std::move(fingers)),
+      order_(std::move(order)),
+      turn_(turn),
+      chart_(Build()) {
   DMPL_DEMAND(actions_ != nullptr);
-  DMPL_DEMAND(order_.size() == 4);
+  DMPL_DEMAND(fingers_.size() == kFingers);
+  DMPL_DEMAND(std::is_permutation(order_.begin(), order_.end(), fingers_.begin(), fingers_.end()));
 }
 
-std::string RegraspChart::Grippers(int k) const {
-  std::string out;
-  for (const char* f : kCanonical) {
-    if (order_[k] != f) out += f;
+std::vector<std::string> RegraspChart::Grippers(int k) const {
+  std::vector<std::string> out;
+  for (const std::string& f : fingers_) {
+    if (f != order_[k]) out.push_back(f);
   }
+  return out;
+}
+
+std::string RegraspChart::Names(const std::vector<std::string>& fingers) {
+  // One-letter names read as the paper writes them ("TFM"); longer ones are listed.
+  const bool letters = std::all_of(fingers.begin(), fingers.end(),
+                                   [](const std::string& f) { return f.size() == 1; });
+  std::string out;
+  for (const std::string& f : fingers) out += (out.empty() || letters ? "" : ",") + f;
   return out;
 }
 
@@ -56,7 +72,7 @@ sc::Guard RegraspChart::NextIs(int k) {
 // 9, 12 for the fingers in exploring order R, M, F, T (S2..S5).
 sc::Action RegraspChart::ExploreAction(int number, int k) {
   const std::string explore = "A" + std::to_string(number) + " " + order_[k] + " explore";
-  const std::string both = explore + " + A" + std::to_string(number - 2) + " " + Grippers(k) +
+  const std::string both = explore + " + A" + std::to_string(number - 2) + " " + Names(Grippers(k)) +
                            " rotate";
   const std::string name = turn_ == Turn::kContinuous ? both
                            : turn_ == Turn::kAuto     ? explore + " (+ A" +
@@ -73,8 +89,8 @@ sc::Action RegraspChart::ExploreAction(int number, int k) {
 }
 
 sc::Action RegraspChart::RotateAction(int number, int k) {
-  const std::string grippers = Grippers(k);
-  const std::string name = "A" + std::to_string(number) + " " + grippers + " rotate";
+  const std::vector<std::string> grippers = Grippers(k);
+  const std::string name = "A" + std::to_string(number) + " " + Names(grippers) + " rotate";
   return sc::Action(name, [this, grippers, name] {
     last_action_ = name;
     phase_ = Phase::kRotating;
@@ -88,7 +104,7 @@ sc::Action RegraspChart::GripAction(int number, int k) {
     last_action_ = name;
     phase_ = Phase::kGripping;
     ++regrasps_;
-    next_ = (k + 1) % 4;
+    next_ = (k + 1) % kFingers;
     actions_->Grip(order_[k]);
   });
 }
@@ -99,10 +115,11 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
   const sc::Guard exploring("exploring", [this] { return phase_ == Phase::kExploring; });
   const sc::Guard rotating("rotating", [this] { return phase_ == Phase::kRotating; });
   const sc::Guard goal("goal reached", [this] { return actions_->GoalReached(); });
-  const sc::Action a1("A1 TFMR rotate", [this] {
-    last_action_ = "A1 TFMR rotate";
+  const std::string all_rotate = "A1 " + Names(fingers_) + " rotate";
+  const sc::Action a1(all_rotate, [this, all_rotate] {
+    last_action_ = all_rotate;
     phase_ = Phase::kRotating;
-    actions_->Rotate("TFMR");
+    actions_->Rotate(fingers_);
   });
   const sc::Action finish("finish", [this] {
     last_action_ = "finish";
@@ -134,7 +151,7 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
     rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
     rows.push_back({S::S1, E::GripStable, after_four, a1, S::S1});
   }
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < kFingers; ++k) {
     const S sk = kExploreState[k];
     rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
     // What ends S1 for the next explorer: a step's turn with four, a grip with three.

@@ -35,12 +35,12 @@ const char* ToString(RegraspState s);
 const char* ToString(RegraspEvent e);
 
 // What the chart asks for. `finger` is the name of the exploring or gripping finger; `grippers`
-// the fingers that turn the object ("TFM").
+// the fingers that turn the object, in the hand's order.
 class RegraspActions {
  public:
   virtual ~RegraspActions() = default;
   virtual void Explore(const std::string& finger) = 0;              // A4, A7, A10, A13
-  virtual void Rotate(const std::string& grippers) = 0;             // A1, A2, A5, A8, A11
+  virtual void Rotate(const std::vector<std::string>& grippers) = 0;  // A1, A2, A5, A8, A11
   virtual void Grip(const std::string& finger) = 0;                 // A3, A6, A9, A12
   virtual void Finish() = 0;                                        // the goal is reached
   virtual bool GoalReached() const = 0;
@@ -51,10 +51,13 @@ class RegraspActions {
 
 class RegraspChart {
  public:
-  // `order`: the exploring order (each a finger name; four of them, S2..S5 = order[0..3]).
+  // The paper's chart has one explore state per finger (S2..S5) for its four-finger hand.
+  static constexpr int kFingers = 4;
   using Turn = TurnMode;  // task.turn (turn_mode.h)
-  RegraspChart(RegraspActions* actions, std::vector<std::string> order,
-               Turn turn = Turn::kThreeFingers);
+  // `fingers`: the hand's finger names, in the hand's order; `order`: the exploring order, each
+  // finger once (S2..S5 = order[0..3]).
+  RegraspChart(RegraspActions* actions, std::vector<std::string> fingers,
+               std::vector<std::string> order, Turn turn = Turn::kThreeFingers);
 
   bool Process(RegraspEvent e) { return chart_.Process(e); }
   bool is(RegraspState s) const { return chart_.is(s); }
@@ -81,9 +84,11 @@ class RegraspChart {
   sc::Action ExploreAction(int number, int k);
   sc::Action RotateAction(int number, int k);
   sc::Action GripAction(int number, int k);
-  std::string Grippers(int k) const;
+  std::vector<std::string> Grippers(int k) const;  // all fingers but order_[k]
+  static std::string Names(const std::vector<std::string>& fingers);  // "TFM"
 
   RegraspActions* actions_;
+  std::vector<std::string> fingers_;
   std::vector<std::string> order_;
   Turn turn_;
   int next_ = 0;

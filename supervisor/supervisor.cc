@@ -58,9 +58,9 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
       ptask_index_(fingers_.size(), 0),
       ptask_since_(fingers_.size(), 0.0),
       home_(fingers_.size(), Eigen::Vector3d::Zero()),
-      regrasp_(this, tasks_.gait.order, task_params_.turn.mode),
+      regrasp_(this, fingers_, tasks_.gait.order, task_params_.turn.mode),
       grasp_(BuildGraspChart()) {
-  DMPL_DEMAND(fingers_.size() == 4);
+  DMPL_DEMAND(fingers_.size() == RegraspChart::kFingers);  // the node's Load says it clearly
   out_.task.fingers.resize(fingers_.size());
   out_.task.name = "idle";
   auto log = [this](const std::string& chart, const auto& t) {

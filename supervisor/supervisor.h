@@ -101,7 +101,7 @@ class Supervisor : private RegraspActions {
 
   // RegraspActions.
   void Explore(const std::string& finger) override;
-  void Rotate(const std::string& grippers) override;
+  void Rotate(const std::vector<std::string>& grippers) override;
   void Grip(const std::string& finger) override;
   void Finish() override;
   bool GoalReached() const override;

@@ -108,7 +108,7 @@ void Supervisor::Explore(const std::string& finger) {
   out_.task.object_target = goal_;
 }
 
-void Supervisor::Rotate(const std::string& grippers) {
+void Supervisor::Rotate(const std::vector<std::string>& grippers) {
   (void)grippers;  // the explorer, if any, keeps exploring in place; the others grip
   phase_since_ = now_;
   NewTask(regrasp_.last_action());

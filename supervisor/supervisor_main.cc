@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
     const bool mermaid = std::strcmp(argv[i], "--mermaid") == 0;
     if (!dot && !mermaid) continue;
     // The grasp chart, then the regrasp chart for each way of turning (task.turn).
-    const std::vector<std::string> fingers = {"T", "F", "M", "R"};
+    std::vector<std::string> fingers;  // the default hand's
+    for (const dmpl::FingerParams& f : dmpl::HandParams{}.fingers) fingers.push_back(f.name);
     using dmpl::TurnMode;
     for (TurnMode turn : {TurnMode::kThreeFingers, TurnMode::kFourFingers, TurnMode::kContinuous,
                           TurnMode::kAuto}) {

@@ -233,6 +233,11 @@ Loaded Load(const Config& config) {
   l.task_params.Validate(config.source());
   l.params.Validate(config.source());
   for (const auto& f : hand.fingers) l.fingers.push_back(f.name);
+  if (l.fingers.size() != RegraspChart::kFingers) {
+    throw ConfigError("config error in " + config.source() + ": key 'hand.fingers': the regrasp "
+                      "chart (the paper's S2..S5) explores four fingers; this hand has " +
+                      std::to_string(l.fingers.size()));
+  }
   l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
   return l;
 }

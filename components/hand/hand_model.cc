@@ -4,11 +4,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <limits>
 #include <map>
+#include <mutex>
 
 #include <Eigen/Eigenvalues>
+#include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
 namespace dmpl {
@@ -26,6 +27,152 @@ Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
 
 [[noreturn]] void FailUrdf(const std::string& file, const std::string& what) {
   throw ConfigError("URDF error in " + file + ": " + what);
+}
+
+// urdfdom says why a file does not parse through console_bridge, on stderr by default: kept here
+// to go into the error instead (the handler is process-wide, hence the lock).
+class KeepMessages : public console_bridge::OutputHandler {
+ public:
+  KeepMessages() { console_bridge::useOutputHandler(this); }
+  ~KeepMessages() override { console_bridge::restorePreviousOutputHandler(); }
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level < console_bridge::CONSOLE_BRIDGE_LOG_WARN) return;
+    text_ += (text_.empty() ? "" : "; ") + text;
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+urdf::ModelInterfaceSharedPtr ParseUrdf(const std::string& file, std::string* messages) {
+  static std::mutex mutex;
+  const std::lock_guard<std::mutex> lock(mutex);
+  KeepMessages keep;
+  urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(file);
+  *messages = keep.text().empty() ? "(it gave no reason)" : keep.text();
+  return model;
+}
+
+// A link's mass, centre of mass and inertia (about the com, in the link frame's axes).
+void ReadInertial(const std::string& file, const urdf::Link& link, LinkInfo* info) {
+  const urdf::Inertial& in = *link.inertial;
+  if (!(in.mass > 0.0) || !std::isfinite(in.mass)) {
+    FailUrdf(file, "link '" + link.name + "' has a non-positive mass " + std::to_string(in.mass));
+  }
+  info->mass = in.mass;
+  const Eigen::Isometry3d frame = ToIsometry(in.origin);
+  info->com = frame.translation();
+  Eigen::Matrix3d i_frame;
+  i_frame << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  info->inertia = frame.linear() * i_frame * frame.linear().transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info->inertia);
+  if (eig.eigenvalues().minCoeff() <= 0.0) {
+    FailUrdf(file, "link '" + link.name + "' has an inertia that is not positive definite");
+  }
+}
+
+CollisionShape ReadCollision(const std::string& file, const urdf::Link& link,
+                             const urdf::Collision& c) {
+  CollisionShape shape;
+  shape.origin = ToIsometry(c.origin);
+  switch (c.geometry->type) {
+    case urdf::Geometry::BOX: {
+      const auto& b = static_cast<const urdf::Box&>(*c.geometry);
+      shape.kind = CollisionShape::Kind::kBox;
+      shape.box_size = Eigen::Vector3d(b.dim.x, b.dim.y, b.dim.z);
+      return shape;
+    }
+    case urdf::Geometry::SPHERE:
+      shape.kind = CollisionShape::Kind::kSphere;
+      shape.radius = static_cast<const urdf::Sphere&>(*c.geometry).radius;
+      return shape;
+    case urdf::Geometry::CYLINDER: {
+      const auto& cyl = static_cast<const urdf::Cylinder&>(*c.geometry);
+      shape.kind = CollisionShape::Kind::kCylinder;
+      shape.radius = cyl.radius;
+      shape.length = cyl.length;
+      return shape;
+    }
+    default:
+      FailUrdf(file, "link '" + link.name + "': only box, sphere and cylinder collisions are "
+               "supported (meshes are not)");
+  }
+}
+
+// A revolute (or continuous) joint's axis, limits, effort and speed.
+void ReadRevolute(const std::string& file, const urdf::Joint& uj, JointInfo* joint) {
+  joint->type = JointInfo::Type::kRevolute;
+  const Eigen::Vector3d axis(uj.axis.x, uj.axis.y, uj.axis.z);
+  if (axis.norm() < 1e-9) FailUrdf(file, "joint '" + uj.name + "' has a zero axis");
+  joint->axis = axis.normalized();
+  if (uj.type == urdf::Joint::CONTINUOUS) {
+    joint->lower = -std::numeric_limits<double>::infinity();
+    joint->upper = std::numeric_limits<double>::infinity();
+  } else {
+    if (!uj.limits) FailUrdf(file, "revolute joint '" + uj.name + "' has no <limit>");
+    joint->lower = uj.limits->lower;
+    joint->upper = uj.limits->upper;
+    if (!(joint->lower < joint->upper)) {
+      FailUrdf(file, "joint '" + uj.name + "' has lower limit >= upper limit");
+    }
+  }
+  if (uj.limits) {
+    joint->effort = uj.limits->effort;
+    joint->velocity = uj.limits->velocity;
+  }
+  if (!(joint->effort > 0.0)) FailUrdf(file, "joint '" + uj.name + "' needs an effort limit > 0");
+}
+
+JointInfo ReadJoint(const std::string& file, const urdf::Joint& uj, int parent_link) {
+  JointInfo joint;
+  joint.name = uj.name;
+  joint.parent_link = parent_link;
+  joint.origin = ToIsometry(uj.parent_to_joint_origin_transform);
+  switch (uj.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+      ReadRevolute(file, uj, &joint);
+      return joint;
+    case urdf::Joint::FIXED:
+      joint.type = JointInfo::Type::kFixed;
+      return joint;
+    case urdf::Joint::FLOATING:
+      FailUrdf(file, "joint '" + uj.name + "' is floating: not supported (the palm is fixed)");
+    case urdf::Joint::PLANAR:
+      FailUrdf(file, "joint '" + uj.name + "' is planar: not supported");
+    case urdf::Joint::PRISMATIC:
+      FailUrdf(file, "joint '" + uj.name + "' is prismatic: not supported by this hand model");
+    default:
+      FailUrdf(file, "joint '" + uj.name + "' has an unknown type");
+  }
+}
+
+// Depth-first from `link`: parents before children, children in URDF order.
+void AppendSubtree(const std::string& file, const urdf::LinkConstSharedPtr& link,
+                   int parent_link, int parent_joint, std::vector<LinkInfo>* links,
+                   std::vector<JointInfo>* joints) {
+  LinkInfo info;
+  info.name = link->name;
+  info.parent_link = parent_link;
+  info.parent_joint = parent_joint;
+  if (link->inertial) {
+    ReadInertial(file, *link, &info);
+  } else if (parent_link >= 0) {
+    FailUrdf(file, "link '" + link->name + "' has no <inertial> (every moving link needs a mass)");
+  }
+  for (const auto& c : link->collision_array) {
+    if (c && c->geometry) info.collisions.push_back(ReadCollision(file, *link, *c));
+  }
+  const int index = static_cast<int>(links->size());
+  links->push_back(info);
+  for (const auto& child : link->child_links) {
+    JointInfo joint = ReadJoint(file, *child->parent_joint, index);
+    joint.child_link = static_cast<int>(links->size());
+    const int joint_index = static_cast<int>(joints->size());
+    joints->push_back(joint);
+    AppendSubtree(file, child, index, joint_index, links, joints);
+  }
 }
 
 }  // namespace
@@ -71,159 +218,62 @@ HandModel HandModel::Load(const HandParams& params) {
   if (!std::filesystem::exists(file)) {
     throw ConfigError("URDF error: file '" + file + "' does not exist (key hand.urdf)");
   }
-  const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDFFile(file);
-  if (!urdf) FailUrdf(file, "urdfdom could not parse it (its messages are above)");
-  const urdf::LinkConstSharedPtr root = urdf->getRoot();
-  if (!root) FailUrdf(file, "no root link");
+  std::string why;
+  const urdf::ModelInterfaceSharedPtr urdf = ParseUrdf(file, &why);
+  if (!urdf) FailUrdf(file, "urdfdom could not parse it: " + why);
+  if (!urdf->getRoot()) FailUrdf(file, "no root link");
+  AppendSubtree(file, urdf->getRoot(), -1, -1, &model.links_, &model.joints_);
+  model.AssignFingers(params);
+  model.AssignCollisionExclusions(params);
+  return model;
+}
 
-  // Depth-first: parents before children, children in URDF order.
-  std::function<void(const urdf::LinkConstSharedPtr&, int, int)> visit =
-      [&](const urdf::LinkConstSharedPtr& link, int parent_link, int parent_joint) {
-        LinkInfo info;
-        info.name = link->name;
-        info.parent_link = parent_link;
-        info.parent_joint = parent_joint;
-        if (link->inertial) {
-          const auto& in = *link->inertial;
-          if (!(in.mass > 0.0) || !std::isfinite(in.mass)) {
-            FailUrdf(file, "link '" + link->name + "' has a non-positive mass " + std::to_string(in.mass));
-          }
-          info.mass = in.mass;
-          const Eigen::Isometry3d frame = ToIsometry(in.origin);
-          info.com = frame.translation();
-          Eigen::Matrix3d i_frame;
-          i_frame << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-          info.inertia = frame.linear() * i_frame * frame.linear().transpose();
-          const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(info.inertia);
-          if (eig.eigenvalues().minCoeff() <= 0.0) {
-            FailUrdf(file, "link '" + link->name + "' has an inertia that is not positive definite");
-          }
-        } else if (parent_link >= 0) {
-          FailUrdf(file, "link '" + link->name + "' has no <inertial> (every moving link needs a mass)");
-        }
-        for (const auto& c : link->collision_array) {
-          if (!c || !c->geometry) continue;
-          CollisionShape shape;
-          shape.origin = ToIsometry(c->origin);
-          switch (c->geometry->type) {
-            case urdf::Geometry::BOX: {
-              const auto& b = static_cast<const urdf::Box&>(*c->geometry);
-              shape.kind = CollisionShape::Kind::kBox;
-              shape.box_size = Eigen::Vector3d(b.dim.x, b.dim.y, b.dim.z);
-              break;
-            }
-            case urdf::Geometry::SPHERE:
-              shape.kind = CollisionShape::Kind::kSphere;
-              shape.radius = static_cast<const urdf::Sphere&>(*c->geometry).radius;
-              break;
-            case urdf::Geometry::CYLINDER: {
-              const auto& cyl = static_cast<const urdf::Cylinder&>(*c->geometry);
-              shape.kind = CollisionShape::Kind::kCylinder;
-              shape.radius = cyl.radius;
-              shape.length = cyl.length;
-              break;
-            }
-            default:
-              FailUrdf(file, "link '" + link->name + "': only box, sphere and cylinder collisions are "
-                   "supported (meshes are not)");
-          }
-          info.collisions.push_back(shape);
-        }
-        const int index = static_cast<int>(model.links_.size());
-        model.links_.push_back(info);
-        for (const auto& child : link->child_links) {
-          const urdf::JointConstSharedPtr& uj = child->parent_joint;
-          JointInfo joint;
-          joint.name = uj->name;
-          joint.parent_link = index;
-          joint.origin = ToIsometry(uj->parent_to_joint_origin_transform);
-          switch (uj->type) {
-            case urdf::Joint::REVOLUTE:
-            case urdf::Joint::CONTINUOUS: {
-              joint.type = JointInfo::Type::kRevolute;
-              const Eigen::Vector3d axis(uj->axis.x, uj->axis.y, uj->axis.z);
-              if (axis.norm() < 1e-9) FailUrdf(file, "joint '" + uj->name + "' has a zero axis");
-              joint.axis = axis.normalized();
-              if (uj->type == urdf::Joint::CONTINUOUS) {
-                joint.lower = -std::numeric_limits<double>::infinity();
-                joint.upper = std::numeric_limits<double>::infinity();
-              } else {
-                if (!uj->limits) FailUrdf(file, "revolute joint '" + uj->name + "' has no <limit>");
-                joint.lower = uj->limits->lower;
-                joint.upper = uj->limits->upper;
-                if (!(joint.lower < joint.upper)) {
-                  FailUrdf(file, "joint '" + uj->name + "' has lower limit >= upper limit");
-                }
-              }
-              if (uj->limits) {
-                joint.effort = uj->limits->effort;
-                joint.velocity = uj->limits->velocity;
-              }
-              if (!(joint.effort > 0.0)) FailUrdf(file, "joint '" + uj->name + "' needs an effort limit > 0");
-              break;
-            }
-            case urdf::Joint::FIXED:
-              joint.type = JointInfo::Type::kFixed;
-              break;
-            case urdf::Joint::FLOATING:
-              FailUrdf(file, "joint '" + uj->name + "' is floating: not supported (the palm is fixed)");
-            case urdf::Joint::PLANAR:
-              FailUrdf(file, "joint '" + uj->name + "' is planar: not supported");
-            case urdf::Joint::PRISMATIC:
-              FailUrdf(file, "joint '" + uj->name + "' is prismatic: not supported by this hand model");
-            default:
-              FailUrdf(file, "joint '" + uj->name + "' has an unknown type");
-          }
-          const int joint_index = static_cast<int>(model.joints_.size());
-          model.joints_.push_back(joint);
-          model.joints_[joint_index].child_link = static_cast<int>(model.links_.size());
-          visit(child, index, joint_index);
-        }
-      };
-  visit(root, -1, -1);
-
-  // Fingers: chains from the root to each tip link; actuated joints numbered finger by finger.
+void HandModel::AssignFingers(const HandParams& params) {
+  // Chains from the root to each tip link; actuated joints numbered finger by finger.
   if (params.fingers.empty()) throw ConfigError("config error: hand.fingers is empty");
-  std::vector<bool> claimed(model.joints_.size(), false);
+  std::vector<bool> claimed(joints_.size(), false);
   for (const auto& fp : params.fingers) {
     FingerInfo finger;
     finger.name = fp.name;
-    finger.tip_link = model.FindLink(fp.tip_link);
+    finger.tip_link = FindLink(fp.tip_link);
     if (finger.tip_link < 0) {
-      FailUrdf(file, "finger '" + fp.name + "': tip link '" + fp.tip_link + "' is not in the URDF");
+      FailUrdf(urdf_path_,
+               "finger '" + fp.name + "': tip link '" + fp.tip_link + "' is not in the URDF");
     }
-    for (int l = finger.tip_link; model.links_[l].parent_link >= 0; l = model.links_[l].parent_link) {
+    for (int l = finger.tip_link; links_[l].parent_link >= 0; l = links_[l].parent_link) {
       finger.links.insert(finger.links.begin(), l);
     }
     for (int l : finger.links) {
-      const int j = model.links_[l].parent_joint;
-      if (model.joints_[j].type != JointInfo::Type::kRevolute) continue;
-      if (claimed[j]) FailUrdf(file, "joint '" + model.joints_[j].name + "' is on two fingers' chains");
+      const int j = links_[l].parent_joint;
+      if (joints_[j].type != JointInfo::Type::kRevolute) continue;
+      if (claimed[j]) FailUrdf(urdf_path_, "joint '" + joints_[j].name + "' is on two fingers' chains");
       claimed[j] = true;
-      model.joints_[j].actuated_index = static_cast<int>(model.actuated_.size());
-      finger.joints.push_back(model.joints_[j].actuated_index);
-      model.actuated_.push_back(j);
+      joints_[j].actuated_index = static_cast<int>(actuated_.size());
+      finger.joints.push_back(joints_[j].actuated_index);
+      actuated_.push_back(j);
     }
-    if (finger.joints.empty()) FailUrdf(file, "finger '" + fp.name + "' has no revolute joints");
-    model.fingers_.push_back(finger);
+    if (finger.joints.empty()) FailUrdf(urdf_path_, "finger '" + fp.name + "' has no revolute joints");
+    fingers_.push_back(finger);
   }
-  for (size_t j = 0; j < model.joints_.size(); ++j) {
-    if (model.joints_[j].type == JointInfo::Type::kRevolute && !claimed[j]) {
-      FailUrdf(file, "revolute joint '" + model.joints_[j].name + "' is on no finger's chain");
+  for (size_t j = 0; j < joints_.size(); ++j) {
+    if (joints_[j].type == JointInfo::Type::kRevolute && !claimed[j]) {
+      FailUrdf(urdf_path_, "revolute joint '" + joints_[j].name + "' is on no finger's chain");
     }
   }
+}
+
+void HandModel::AssignCollisionExclusions(const HandParams& params) {
   for (size_t i = 0; i < params.self_collision_exclude.size(); ++i) {
     const auto& [a, b] = params.self_collision_exclude[i];
-    const int la = model.FindLink(a), lb = model.FindLink(b);
+    const int la = FindLink(a), lb = FindLink(b);
     const std::string key = "hand.self_collision_exclude[" + std::to_string(i) + "]";
     if (la < 0 || lb < 0) {
       throw ConfigError("config error: key '" + key + "': link '" + (la < 0 ? a : b) +
-                        "' is not in " + file);
+                        "' is not in " + urdf_path_);
     }
     if (la == lb) throw ConfigError("config error: key '" + key + "': a link with itself");
-    model.exclusions_.emplace_back(std::min(la, lb), std::max(la, lb));
+    exclusions_.emplace_back(std::min(la, lb), std::max(la, lb));
   }
-  return model;
 }
 
 }  // namespace dmpl

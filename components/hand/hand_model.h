@@ -72,6 +72,9 @@ class HandModel {
   bool CollisionExcluded(int link_a, int link_b) const;
 
  private:
+  void AssignFingers(const HandParams& params);
+  void AssignCollisionExclusions(const HandParams& params);
+
   std::string urdf_path_;
   std::vector<LinkInfo> links_;
   std::vector<JointInfo> joints_;

@@ -179,15 +179,17 @@ struct HandSim::World {
   }
 };
 
-HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object)
+HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object,
+                 const std::string& source)
     : model_(model), sim_(sim), object_params_(object) {
-  sim_.Validate("sim");
-  object_params_.Validate("object");
+  sim_.Validate(source);
+  object_params_.Validate(source);
   for (const auto& [finger, q] : sim_.initial_joints) {
+    const std::string key = "config error in " + source + ": key 'sim.initial_joints." + finger;
     const int f = model_.FindFinger(finger);
-    if (f < 0) throw ConfigError("config error: key 'sim.initial_joints." + finger + "': no such finger");
+    if (f < 0) throw ConfigError(key + "': no such finger");
     if (q.size() != model_.fingers()[f].joints.size()) {
-      throw ConfigError("config error: key 'sim.initial_joints." + finger + "': expected " +
+      throw ConfigError(key + "': expected " +
                         std::to_string(model_.fingers()[f].joints.size()) + " joint angles");
     }
   }

@@ -33,8 +33,10 @@ struct TipReading {
 
 class HandSim {
  public:
-  // Throws ConfigError on invalid parameters (unknown shape, non-positive mass, ...).
-  HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object);
+  // Validates the parameters (the one place they are): throws ConfigError naming `source` and the
+  // key on invalid ones (unknown shape, non-positive mass, an initial pose of an unknown finger).
+  HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object,
+          const std::string& source = "the simulator's parameters");
   ~HandSim();
   HandSim(const HandSim&) = delete;
   HandSim& operator=(const HandSim&) = delete;

@@ -41,7 +41,7 @@ class SimNode : public Node, private SimLoop {
         view_gate_(ctx.run.view_rate_hz),
         sim_params_(sim),
         model_(std::move(model)),
-        sim_(model_, sim, object),
+        sim_(model_, sim, object, ctx.config.source()),  // validates sim and object
         scheduler_(ScheduleParams(ctx.run, sim), this) {
     Subscribe(channels::kJointCmd, &SimNode::OnJointCmd, this);
     Subscribe(channels::kSimControl, &SimNode::OnSimControl, this);
@@ -400,8 +400,7 @@ std::unique_ptr<Node> MakeSimNode(const NodeContext& ctx) {
   ctx.config.Load("hand", &hand);
   ctx.config.Load("sim", &sim);
   ctx.config.Load("object", &object);
-  sim.Validate(ctx.config.source());
-  object.Validate(ctx.config.source());
+  auto node = std::make_unique<SimNode>(ctx, HandModel::Load(hand), sim, object);
   // Every node takes the loop's period from run.tick_s: it must be this simulator's tick.
   const double tick_s = sim.physics.time_step * sim.steps_per_tick;
   if (std::abs(ctx.run.tick_s - tick_s) > 1e-9 * tick_s) {
@@ -410,7 +409,7 @@ std::unique_ptr<Node> MakeSimNode(const NodeContext& ctx) {
                       "(sim.physics.time_step x sim.steps_per_tick) is " +
                       std::to_string(tick_s) + " s");
   }
-  return std::make_unique<SimNode>(ctx, HandModel::Load(hand), sim, object);
+  return node;
 }
 
 const NodeInfo kSimNode = {"dmpl_sim", "run, hand, sim, object", MakeSimNode};

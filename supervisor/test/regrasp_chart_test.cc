@@ -7,11 +7,15 @@
 namespace dmpl {
 namespace {
 
+const std::vector<std::string> kHand = {"T", "F", "M", "R"};
+
 // Records what the chart asks for; turns by `step` per Rotate until `goal`.
 class Recorder : public RegraspActions {
  public:
   void Explore(const std::string& f) override { calls.push_back("explore " + f); }
-  void Rotate(const std::string& g) override {
+  void Rotate(const std::vector<std::string>& grippers) override {
+    std::string g;
+    for (const std::string& f : grippers) g += f;
     calls.push_back("rotate " + g);
     turned += 1;
   }
@@ -42,7 +46,7 @@ void Play(RegraspChart* chart, const std::vector<Step>& script) {
 
 TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
   Recorder r;
-  RegraspChart chart(&r, {"R", "M", "F", "T"});
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"});
   using E = RegraspEvent;
   using S = RegraspState;
   Play(&chart, {
@@ -61,7 +65,7 @@ TEST(RegraspChartTest, TheFullRMFTCycleOnAScriptedEventStream) {
 
 TEST(RegraspChartTest, ContinuousTurnsWhileTheExplorerSlidesAndGripsWhenBothAreDone) {
   Recorder r;
-  RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kContinuous);
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"}, RegraspChart::Turn::kContinuous);
   using E = RegraspEvent;
   using S = RegraspState;
   Play(&chart, {
@@ -83,7 +87,7 @@ TEST(RegraspChartTest, AutoTurnsWithThreeWhenTheyCanElseWithFourAfterTheGrip) {
   // (T and M among them) turn the object.
   Recorder r;
   r.three_turn = {"F", "R"};
-  RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kAuto);
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"}, RegraspChart::Turn::kAuto);
   using E = RegraspEvent;
   using S = RegraspState;
   Play(&chart, {
@@ -101,7 +105,7 @@ TEST(RegraspChartTest, AutoTurnsWithThreeWhenTheyCanElseWithFourAfterTheGrip) {
 
 TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1) {
   Recorder r;
-  RegraspChart chart(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
   using E = RegraspEvent;
   using S = RegraspState;
   Play(&chart, {
@@ -116,7 +120,7 @@ TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1)
   EXPECT_EQ(chart.regrasps(), 4);
   EXPECT_EQ(r.turned, 4);
   // Nobody turns while a finger explores: a rotation's end there is out of order.
-  RegraspChart again(&r, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
+  RegraspChart again(&r, kHand, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers);
   r.goal = 100;
   again.Process(E::Begin);
   EXPECT_FALSE(again.Process(E::RotateDone));
@@ -127,7 +131,7 @@ TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1)
 TEST(RegraspChartTest, EveryRoleChangePassesThroughS1AndOutOfOrderEventsAreIgnored) {
   Recorder r;
   r.goal = 100;
-  RegraspChart chart(&r, {"R", "M", "F", "T"});
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"});
   EXPECT_FALSE(chart.Process(RegraspEvent::ExploreReady));  // nobody explores yet
   EXPECT_FALSE(chart.Process(RegraspEvent::RotateDone));
   EXPECT_TRUE(chart.is(RegraspState::S1));
@@ -146,7 +150,7 @@ TEST(RegraspChartTest, EveryRoleChangePassesThroughS1AndOutOfOrderEventsAreIgnor
 
 TEST(RegraspChartTest, LocalRotationIsA1AndTheOrderIsConfigurable) {
   Recorder r;
-  RegraspChart chart(&r, {"T", "F", "M", "R"});
+  RegraspChart chart(&r, kHand, {"T", "F", "M", "R"});
   EXPECT_TRUE(chart.Process(RegraspEvent::LocalRotate));
   EXPECT_EQ(chart.last_action(), "A1 TFMR rotate");
   EXPECT_TRUE(chart.is(RegraspState::S1));
@@ -158,11 +162,24 @@ TEST(RegraspChartTest, LocalRotationIsA1AndTheOrderIsConfigurable) {
 
 TEST(RegraspChartTest, DotExportHasEveryAction) {
   Recorder r;
-  RegraspChart chart(&r, {"R", "M", "F", "T"});
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"});
   const std::string dot = chart.ToDot();
   for (int a = 1; a <= 13; ++a) {
     EXPECT_NE(dot.find("A" + std::to_string(a) + " "), std::string::npos) << a;
   }
+}
+
+// The chart knows the fingers by the hand's names, whatever they are.
+TEST(RegraspChartTest, FingersAreTheHandsOwn) {
+  Recorder r;
+  RegraspChart chart(&r, {"thumb", "index", "middle", "ring"}, {"ring", "middle", "index", "thumb"});
+  chart.Process(RegraspEvent::LocalRotate);
+  EXPECT_EQ(r.calls.back(), "rotate thumbindexmiddlering");
+  chart.Process(RegraspEvent::Begin);
+  EXPECT_EQ(chart.last_action(), "A4 ring explore");
+  chart.Process(RegraspEvent::ExploreReady);
+  EXPECT_EQ(chart.last_action(), "A2 thumb,index,middle rotate");
+  EXPECT_EQ(r.calls.back(), "rotate thumbindexmiddle");
 }
 
 }  // namespace

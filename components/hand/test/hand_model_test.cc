@@ -56,6 +56,13 @@ std::string Link(const std::string& name, const std::string& inertial = kInertia
 
 TEST(HandModelTest, BadUrdfsGiveClearErrors) {
   EXPECT_NE(LoadError("").find("could not parse"), std::string::npos);
+  // urdfdom's own reason is in the error, not only on stderr.
+  const std::string dangling =
+      Link("base") + "<joint name=\"j\" type=\"fixed\"><parent link=\"base\"/>"
+                     "<child link=\"nope\"/></joint>";
+  EXPECT_NE(LoadError(dangling).find("child link [nope] of joint [j] not found"),
+            std::string::npos)
+      << LoadError(dangling);
   HandParams missing;
   missing.urdf = "/nonexistent/hand.urdf";
   EXPECT_THROW(HandModel::Load(missing), ConfigError);
