@@ -13,7 +13,7 @@ import unittest
 from pathlib import Path
 
 import mp
-from dmpl_tools.launch import SetError
+from dmpl_tools.process_set import SetError
 from dmpl_tools.run import loop_layout, run_experiment
 from dmpl_tools.sweep import run_sweep
 

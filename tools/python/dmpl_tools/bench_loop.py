@@ -33,7 +33,7 @@ from pathlib import Path
 import lcm
 
 from .paths import ROOT, executable
-from .launch import resolve_cpus
+from .affinity import resolve_cpus
 from .run import loop_layout, run_experiment
 
 SCENARIO = ROOT / "configs/experiments/fig8_sphere.yaml"
@@ -110,7 +110,7 @@ def bench_loop(rounds=5):
     layout_cpus, layout_pins = loop_layout()
     with tempfile.TemporaryDirectory(prefix="dmpl_bench_loop_") as tmp:
         nbytes = _mean_message_bytes(tmp)
-        hop = _hop_us(nbytes, resolve_cpus(ONE_CPU, "bench loop"))
+        hop = _hop_us(nbytes, resolve_cpus(ONE_CPU))
         hop_free = _hop_us(nbytes)
         runs = {"multi": [], "one": [], "no_delay": [], "free": []}
         for r in range(rounds):

@@ -11,7 +11,7 @@ import threading
 import time
 
 from .bus import Buses
-from .launch import RECORD_POLICIES
+from .process_set import RECORD_POLICIES
 from .logdata import LogError
 from .paths import OUT, ROOT
 from .report import make_report
@@ -60,9 +60,14 @@ class Progress:
                        f"regrasps {s.regrasps}")
 
     def done(self):
+        """Ends the progress with the last status heard (a short run may end before the first
+        period)."""
         self.stop.set()
         if self.thread:
             self.thread.join(timeout=1)
+            self.buses.handle(0)
+        if self.last is not None:
+            self.stream.write(f"\r[{self.name}] {self.line(self.last)}  ")
         self.stream.write("\n")
 
 

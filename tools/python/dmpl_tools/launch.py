@@ -1,228 +1,42 @@
-"""dmpl's launcher: starts a process set described in YAML, in the manner of libbot2's procman.
-
-A set file:
-
-    name: noise_demo
-    lcm_url: udpm://239.255.76.67:7667?ttl=0   # optional; else $LCM_DEFAULT_URL, else the default
-    record: true                                # dmpl_record -> RUN_DIR/run.lcmlog
-    record_policy: full                         # full | analysis | none (record_policy.h)
-    processes:
-      - name: noise
-        exec: dmpl_noise                        # build/bin first, then PATH
-        args: [--config, "${root}/configs/experiments/static_grasp.yaml"]
-        env: {DMPL_LOG_LEVEL: info}
-        group: sensing
-        start_order: 0                          # lower starts first; ties keep file order
-        wait_for_heartbeat: true                # the next process starts once this one beats
-        auto_respawn: true
-        respawn_delay_s: 0.5                    # doubles per restart, up to 8 s
-        max_restarts: 3
-        stop_signal: SIGINT
-        stop_time_allowed: 5.0                  # then SIGKILL
-        exit_ends_set: false                    # when this process exits, stop the set
-        cpus: [-1]                              # CPU affinity (negative: from the last CPU)
-
-A set-level `cpus` applies to every process that names none; the recorder then runs on the
-other CPUs. Pinning a lockstep loop to one CPU makes each hop a local wakeup instead of an
-inter-processor one (measured on a 2-core VM: 1.2-2x faster per tick, and steadier); with the
-actuation delay (sim.command_delay_ticks >= 1) the simulator on a CPU of its own and the nodes on
-another work at once, faster still (run.loop_layout(): 270-290 against 350-390 us per tick).
+"""dmpl's launcher: starts a process set (process_set.py) in the manner of libbot2's procman and
+supervises it: start order and heartbeats, respawn, a required process that ends the set, stop
+with a deadline, the recorder.
 
 Each process runs in its own process group (killed as a group: no orphans) with its output
 prefixed on the console and kept in RUN_DIR/<name>.log. Process status goes out on
 DMPL_PROCESS_STATUS. The launcher exits non-zero when a process failed.
 """
 import argparse
+import enum
 import os
-import re
 import selectors
 import signal
 import subprocess
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
-
 from . import channels
+from .affinity import child_command, this_thread_on, unpinned_cpus
+from .lcm_url import refuse_if_in_use, resolve_lcm_url, with_receive_buffer
 from .paths import BUILD, OUT, ROOT, executable
-
-DEFAULT_LCM_URL = channels.DEFAULT_LCM_URL
-
-
-RECEIVE_BUFFER_BYTES = 4 * 1024 * 1024
+from .process_set import RECORD_POLICIES, ProcessSpec, SetError, load_set, peek_name
 
 
-def resolve_lcm_url(given=None, configured=None):
-    """The LCM URL: the one given (--lcm-url), else the configured one, else $LCM_DEFAULT_URL,
-    else the dmpl default (as the nodes resolve it)."""
-    return given or configured or os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
+class State(str, enum.Enum):
+    """A managed process's state, as DMPL_PROCESS_STATUS carries it."""
+    WAITING = "waiting"        # not started yet
+    STARTING = "starting"      # started, its heartbeat awaited
+    RUNNING = "running"
+    RESPAWNING = "respawning"  # died; starts again at respawn_at
+    STOPPING = "stopping"      # signalled; SIGKILL at stop_deadline
+    STOPPED = "stopped"
+    EXITED = "exited"          # ended by itself, exit code 0
+    FAILED = "failed"
 
 
-def with_receive_buffer(url):
-    """Adds a large socket receive buffer to a udpm URL. At 1 kHz lockstep every process reads
-    every message on the group (~5 MB/s); the kernel's default 208 KB fills in 40 ms when a
-    process is not scheduled, and a lost message stalls the lockstep or leaves a hole in the log.
-    The kernel caps it at net.core.rmem_max (tools/dmpl raises that)."""
-    if not url.startswith("udpm://") or "recv_buf_size" in url:
-        return url
-    return url + ("&" if "?" in url else "?") + f"recv_buf_size={RECEIVE_BUFFER_BYTES}"
-
-
-class SetError(Exception):
-    """A bad process set file: reported before anything starts."""
-
-
-PROCESS_KEYS = {
-    "name": str, "exec": str, "args": list, "env": dict, "group": str, "start_order": int,
-    "wait_for_heartbeat": bool, "heartbeat_timeout_s": (int, float), "auto_respawn": bool,
-    "respawn_delay_s": (int, float), "max_restarts": int, "stop_signal": str,
-    "stop_time_allowed": (int, float), "exit_ends_set": bool, "required": bool, "cpus": list,
-}
-SET_KEYS = {
-    "name": str, "lcm_url": str, "record": bool, "record_channels": str, "record_policy": str,
-    "processes": list,
-    "heartbeat_timeout_s": (int, float), "status_period_s": (int, float), "cpus": list,
-}
-
-
-@dataclass
-class ProcessSpec:
-    name: str
-    exec: str
-    args: list = field(default_factory=list)
-    env: dict = field(default_factory=dict)
-    group: str = ""
-    start_order: int = 0
-    wait_for_heartbeat: bool = False
-    heartbeat_timeout_s: float = 10.0
-    auto_respawn: bool = False
-    respawn_delay_s: float = 0.5
-    max_restarts: int = 3
-    stop_signal: str = "SIGINT"
-    stop_time_allowed: float = 5.0
-    exit_ends_set: bool = False
-    required: bool = True
-    cpus: list = field(default_factory=list)  # resolved CPU ids; empty: no affinity
-
-
-RECORD_POLICIES = ("full", "analysis", "none")  # components/logging/record_policy.h
-
-
-@dataclass
-class ProcessSet:
-    name: str
-    processes: list
-    lcm_url: str = ""
-    record: bool = True
-    record_channels: str = ".*"
-    record_policy: str = "full"
-    heartbeat_timeout_s: float = 10.0
-    status_period_s: float = 0.5
-    cpus: list = field(default_factory=list)
-
-
-def resolve_cpus(cpus, where):
-    """CPU ids from a `cpus` list: a non-negative entry is a CPU id, a negative one counts from
-    the last CPU this process may use (-1: the last). An unavailable CPU is a SetError."""
-    available = sorted(os.sched_getaffinity(0))
-    out = []
-    for c in cpus:
-        if isinstance(c, bool) or not isinstance(c, int):
-            raise SetError(f"{where}: key 'cpus' expects CPU numbers, got {c!r}")
-        cpu = available[c] if -len(available) <= c < 0 else c
-        if cpu not in available:
-            raise SetError(f"{where}: key 'cpus': CPU {c} is not available (CPUs here: "
-                           f"{', '.join(map(str, available))})")
-        if cpu not in out:
-            out.append(cpu)
-    return out
-
-
-def _check_keys(where, data, schema):
-    if not isinstance(data, dict):
-        raise SetError(f"{where}: expected a map, got {type(data).__name__}")
-    for key, value in data.items():
-        if key not in schema:
-            raise SetError(f"{where}: unknown key '{key}'; known keys: {', '.join(sorted(schema))}")
-        want = schema[key]
-        if isinstance(value, bool) and want in ((int, float), int):
-            raise SetError(f"{where}: key '{key}' expects a number, got {value!r}")
-        if not isinstance(value, want):
-            names = want.__name__ if isinstance(want, type) else " or ".join(t.__name__ for t in want)
-            raise SetError(f"{where}: key '{key}' expects {names}, got {value!r}")
-
-
-def substitute(text, variables):
-    """Replaces ${var} with variables[var] or the environment; an unknown variable is an error."""
-    def repl(match):
-        key = match.group(1)
-        if key in variables:
-            return str(variables[key])
-        if key in os.environ:
-            return os.environ[key]
-        raise SetError(f"unknown variable ${{{key}}} in '{text}'")
-    return re.sub(r"\$\{(\w+)\}", repl, str(text))
-
-
-def parse_set(data, source, variables):
-    """Validates a process set (a dict from YAML) and returns a ProcessSet. Raises SetError."""
-    _check_keys(source, data, SET_KEYS)
-    if "name" not in data:
-        raise SetError(f"{source}: missing key 'name'")
-    if not data.get("processes"):
-        raise SetError(f"{source}: 'processes' must list at least one process")
-    procs, names = [], set()
-    for i, p in enumerate(data["processes"]):
-        where = f"{source}: processes[{i}]"
-        _check_keys(where, p, PROCESS_KEYS)
-        for required in ("name", "exec"):
-            if required not in p:
-                raise SetError(f"{where}: missing key '{required}'")
-        if p["name"] in names:
-            raise SetError(f"{where}: duplicate process name '{p['name']}'")
-        names.add(p["name"])
-        spec = ProcessSpec(**p)
-        spec.cpus = resolve_cpus(spec.cpus or data.get("cpus", []), where)
-        spec.args = [substitute(a, variables) for a in spec.args]
-        spec.env = {str(k): substitute(v, variables) for k, v in spec.env.items()}
-        try:
-            spec.exec = executable(substitute(spec.exec, variables))
-        except FileNotFoundError as e:
-            raise SetError(f"{where}: {e}") from None
-        if not spec.stop_signal.startswith("SIG") or not hasattr(signal, spec.stop_signal):
-            raise SetError(f"{where}: unknown stop_signal '{spec.stop_signal}'")
-        if spec.stop_time_allowed <= 0 or spec.respawn_delay_s < 0 or spec.max_restarts < 0:
-            raise SetError(f"{where}: stop_time_allowed must be > 0, respawn_delay_s and "
-                           "max_restarts >= 0")
-        procs.append(spec)
-    fields = {k: v for k, v in data.items() if k != "processes"}
-    if "cpus" in fields:
-        fields["cpus"] = resolve_cpus(fields["cpus"], source)
-    if "lcm_url" in fields:
-        fields["lcm_url"] = substitute(fields["lcm_url"], variables)
-    pset = ProcessSet(processes=procs, **fields)
-    try:
-        re.compile(pset.record_channels)
-    except re.error as e:
-        raise SetError(f"{source}: record_channels is not a valid regex: {e}") from None
-    if pset.record_policy not in RECORD_POLICIES:
-        raise SetError(f"{source}: record_policy '{pset.record_policy}': expected one of "
-                       f"{', '.join(RECORD_POLICIES)}")
-    return pset
-
-
-def load_set(path, variables):
-    try:
-        with open(path) as f:
-            data = yaml.safe_load(f)
-    except OSError as e:
-        raise SetError(f"cannot open process set '{path}': {e.strerror}") from None
-    except yaml.YAMLError as e:
-        raise SetError(f"{path}: YAML syntax error: {e}") from None
-    return parse_set(data or {}, str(path), variables)
+ENDED = (State.EXITED, State.FAILED, State.STOPPED)
 
 
 # Launchers running now (a sweep runs several in threads and stops them all on Ctrl-C).
@@ -235,7 +49,7 @@ class _Proc:
     def __init__(self, spec, run_dir):
         self.spec = spec
         self.popen = None
-        self.state = "waiting"
+        self.state = State.WAITING
         self.restarts = 0
         self.exit_code = 0
         self.last_heartbeat = 0
@@ -344,7 +158,7 @@ class Launcher:
             info.name = p.spec.name
             info.group = p.spec.group
             info.pid = p.popen.pid if p.popen and p.popen.poll() is None else 0
-            info.state = p.state
+            info.state = p.state.value
             info.restarts = p.restarts
             info.exit_code = p.exit_code
             info.last_heartbeat_utime = p.last_heartbeat
@@ -369,18 +183,18 @@ class Launcher:
         proc.log.write(f"--- start: {' '.join(cmd)}\n".encode())
         try:
             proc.popen = subprocess.Popen(
-                _child_command(cmd, spec.cpus or self.all_cpus), stdin=subprocess.DEVNULL,
+                child_command(cmd, spec.cpus or self.all_cpus), stdin=subprocess.DEVNULL,
                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=self._env(spec),
                 cwd=str(ROOT), start_new_session=True)
         except OSError as e:
             self.say(f"{spec.name}: cannot start: {e}")
-            proc.state = "failed"
+            proc.state = State.FAILED
             proc.exit_code = 127
             self.failed.append(spec.name)
             return
         os.set_blocking(proc.popen.stdout.fileno(), False)
         self.selector.register(proc.popen.stdout, selectors.EVENT_READ, proc)
-        proc.state = "starting" if spec.wait_for_heartbeat else "running"
+        proc.state = State.STARTING if spec.wait_for_heartbeat else State.RUNNING
         proc.heartbeat_seen = False
         proc.started_at = time.monotonic()
         self.say(f"started {spec.name} (pid {proc.popen.pid})")
@@ -393,20 +207,17 @@ class Launcher:
 
     def stop(self, proc):
         if proc.popen is None or proc.popen.poll() is not None:
-            if proc.state in ("waiting", "respawning"):
-                proc.state = "stopped"
+            if proc.state in (State.WAITING, State.RESPAWNING):
+                proc.state = State.STOPPED
             return
-        proc.state = "stopping"
+        proc.state = State.STOPPING
         proc.stop_deadline = time.monotonic() + proc.spec.stop_time_allowed
         self._signal_group(proc, getattr(signal, proc.spec.stop_signal))
 
     def _other_cpus(self):
         """The CPUs no process of the set is pinned to (empty when none is pinned or none is
         left over)."""
-        loop_cpus = {c for p in self.pset.processes for c in p.cpus}
-        if not loop_cpus:
-            return []
-        return sorted(set(self.all_cpus) - loop_cpus)
+        return unpinned_cpus(self.all_cpus, {c for p in self.pset.processes for c in p.cpus})
 
     def _start_logger(self):
         if not self.record:
@@ -430,7 +241,7 @@ class Launcher:
                            cpus=others)
         self.logger = _Proc(spec, self.run_dir)
         self.start(self.logger)
-        self.logger.state = "running"
+        self.logger.state = State.RUNNING
         self.say(f"recording LCM traffic to {log_path} (policy {self.record_policy})"
                  if self.record_policy != "none" else "recording no log (policy none)")
         time.sleep(0.2)  # let the logger subscribe before the first message
@@ -468,14 +279,14 @@ class Launcher:
         proc.exit_code = code
         # Make sure nothing of its group lives on.
         self._signal_group(proc, signal.SIGKILL)
-        if proc.state == "stopping":
-            proc.state = "stopped"
+        if proc.state == State.STOPPING:
+            proc.state = State.STOPPED
             return
         how = f"exit code {code}" if code >= 0 else f"signal {signal.Signals(-code).name}"
         spec = proc.spec
         if self.stop_requested is None and spec.exit_ends_set:
             self.say(f"{spec.name} ended ({how}); stopping the set")
-            proc.state = "exited" if code == 0 else "failed"
+            proc.state = State.EXITED if code == 0 else State.FAILED
             if code != 0:
                 self.failed.append(spec.name)
             self.ended_by = spec.name
@@ -486,12 +297,12 @@ class Launcher:
             proc.restarts += 1
             self.restarts.append({"process": spec.name, "tick": self.loop_tick,
                                   "exit": how})
-            proc.state = "respawning"
+            proc.state = State.RESPAWNING
             proc.respawn_at = now + delay
             self.say(f"{spec.name} died ({how}); respawn {proc.restarts}/{spec.max_restarts} "
                      f"in {delay:.1f} s")
             return
-        proc.state = "exited" if code == 0 else "failed"
+        proc.state = State.EXITED if code == 0 else State.FAILED
         if code != 0 or spec.auto_respawn:
             self.say(f"{spec.name} {'failed' if code else 'exited'} ({how})"
                      + (", restart limit reached" if spec.auto_respawn else ""))
@@ -519,15 +330,11 @@ class Launcher:
             previous = {s: signal.signal(s, lambda n, f: self.request_stop(signal.Signals(n).name))
                         for s in (signal.SIGINT, signal.SIGTERM)}
         ACTIVE.add(self)
-        # This thread (the launcher) stays off a pinned loop's CPUs while it runs.
-        before = os.sched_getaffinity(0)
-        others = self._other_cpus()
-        if others:
-            os.sched_setaffinity(0, others)
         try:
-            return self._run(duration)
+            # This thread (the launcher) stays off a pinned loop's CPUs while it runs.
+            with this_thread_on(self._other_cpus()):
+                return self._run(duration)
         finally:
-            os.sched_setaffinity(0, before)
             ACTIVE.discard(self)
             for s, h in previous.items():
                 signal.signal(s, h)
@@ -546,25 +353,25 @@ class Launcher:
             now = time.monotonic()
             # Start the next process once the previous one that must beat has beaten.
             while pending and self.stop_requested is None:
-                blocker = next((p for p in self.procs if p.state == "starting"), None)
+                blocker = next((p for p in self.procs if p.state == State.STARTING), None)
                 if blocker is not None:
                     break
                 self.start(pending.pop(0))
             for p in self.procs:
-                if p.state == "starting":
+                if p.state == State.STARTING:
                     if p.heartbeat_seen:
-                        p.state = "running"
+                        p.state = State.RUNNING
                         self.say(f"{p.spec.name} is up (heartbeat)")
                     elif now - p.started_at > p.spec.heartbeat_timeout_s:
                         self.say(f"{p.spec.name}: no heartbeat within {p.spec.heartbeat_timeout_s} s")
                         self.failed.append(p.spec.name)
-                        p.state = "failed"
+                        p.state = State.FAILED
                         self.request_stop(f"{p.spec.name} did not start")
-                if p.popen and p.state in ("starting", "running", "stopping"):
+                if p.popen and p.state in (State.STARTING, State.RUNNING, State.STOPPING):
                     self._reap(p, now)
-                if p.state == "respawning" and self.stop_requested is None and now >= p.respawn_at:
+                if p.state == State.RESPAWNING and self.stop_requested is None and now >= p.respawn_at:
                     self.start(p)
-                if p.state == "stopping" and p.stop_deadline and now > p.stop_deadline:
+                if p.state == State.STOPPING and p.stop_deadline and now > p.stop_deadline:
                     self.say(f"{p.spec.name} did not stop within {p.spec.stop_time_allowed} s: SIGKILL")
                     self._signal_group(p, signal.SIGKILL)
                     p.stop_deadline = None
@@ -581,7 +388,7 @@ class Launcher:
             if self.stop_requested is not None and not alive and not pending:
                 break
             if self.stop_requested is None and not pending and not alive and \
-                    all(p.state in ("exited", "failed", "stopped") for p in self.procs):
+                    all(p.state in ENDED for p in self.procs):
                 self.say("every process has ended")
                 break
             self._read_ready(0.05)
@@ -600,67 +407,6 @@ class Launcher:
             self.say(f"failed: {', '.join(sorted(set(self.failed)))}")
             return 1
         return 0
-
-
-# Every launcher sends its status every 0.5 s (status_period_s): listening this long hears a run
-# that is going on.
-IN_USE_LISTEN_S = 0.6
-
-
-def refuse_if_in_use(url, lc=None, listen_s=IN_USE_LISTEN_S):
-    """Raises SetError when another run's launcher is heard on `url`: two runs on one URL would
-    take each other's messages. Nodes started by hand are not a run (a user or a test may play
-    one process of the set). memq:// is private to a process."""
-    if not url.startswith("udpm://"):
-        return
-    if lc is None:
-        import lcm
-        lc = lcm.LCM(url)
-    heard = []
-
-    def on_status(channel, data):
-        from dmpl import process_status_t
-        try:
-            status = process_status_t.decode(data)
-            heard.append(f"the launcher of '{status.set_name}' (run directory {status.run_dir})")
-        except ValueError:
-            heard.append("a launcher")
-
-    sub = lc.subscribe(channels.PROCESS_STATUS, on_status)
-    end = time.monotonic() + listen_s
-    try:
-        while not heard and time.monotonic() < end:
-            lc.handle_timeout(max(1, int((end - time.monotonic()) * 1000)))
-    finally:
-        lc.unsubscribe(sub)
-    if heard:
-        raise SetError(f"another run is using the LCM URL {url}: heard {heard[0]}. Two runs on "
-                       "one URL take each other's messages: stop it, or give this run a URL of "
-                       "its own (--lcm-url with another port, e.g. "
-                       "udpm://239.255.76.67:7670?ttl=0)")
-
-
-def _child_command(cmd, cpus):
-    """`cmd` so that it dies when the launcher dies, even by SIGKILL (util-linux setpriv:
-    PR_SET_PDEATHSIG, kept across exec), and runs on `cpus` (taskset; checked by resolve_cpus;
-    not the launcher's own, which may be narrower). Both act in the child before the program
-    starts, with no Python between fork and exec: a preexec_fn is unsafe while other threads
-    run, and sweeps run launchers from threads."""
-    prefix = ["setpriv", "--pdeathsig", "KILL", "--"]
-    if cpus:
-        prefix += ["taskset", "--cpu-list", ",".join(str(c) for c in sorted(cpus))]
-    return prefix + list(cmd)
-
-
-def _peek_name(path):
-    try:
-        with open(path) as f:
-            data = yaml.safe_load(f) or {}
-    except OSError as e:
-        raise SetError(f"cannot open process set '{path}': {e.strerror}") from None
-    except yaml.YAMLError as e:
-        raise SetError(f"{path}: YAML syntax error: {e}") from None
-    return str(data.get("name", "set")) if isinstance(data, dict) else "set"
 
 
 def default_run_dir(name):
@@ -688,7 +434,7 @@ def main(argv=None):
             ap.error(f"--var expects KEY=VALUE, got '{kv}'")
         variables[key] = value
     try:
-        name = _peek_name(args.set_file)
+        name = peek_name(args.set_file)
         run_dir = Path(args.run_dir) if args.run_dir else default_run_dir(name)
         variables["run_dir"] = str(run_dir)
         pset = load_set(args.set_file, variables)

@@ -23,7 +23,8 @@ import time
 import lcm
 
 from .bus import Buses
-from .launch import DEFAULT_LCM_URL, SetError, refuse_if_in_use
+from .lcm_url import DEFAULT_LCM_URL, refuse_if_in_use
+from .process_set import SetError
 
 
 def seq_of(data):

@@ -15,8 +15,9 @@ import traceback
 from pathlib import Path
 
 from . import experiment, metrics
-from .launch import (RECORD_POLICIES, Launcher, SetError, parse_set, refuse_if_in_use,
-                     resolve_lcm_url, with_receive_buffer)
+from .launch import Launcher
+from .lcm_url import refuse_if_in_use, resolve_lcm_url, with_receive_buffer
+from .process_set import RECORD_POLICIES, SetError, parse_set
 from .logdata import Columns, LogData, extract, fields_regex
 from .paths import BUILD, OUT, ROOT
 
@@ -47,7 +48,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     record: what the log keeps, full | analysis | none (default: the config's run.record);
     False runs no recorder at all, and so computes no metrics (benchmarks of the bare loop).
     one_process: every node in one dmpl_oneprocess on memq:// (lockstep only; same results).
-    cpus: pin the experiment's processes to these CPUs (launch.resolve_cpus; -1 is the last);
+    cpus: pin the experiment's processes to these CPUs (affinity.resolve_cpus; -1 is the last);
     the recorder then runs on the others.
     pins: {process name: CPUs} for single processes, over `cpus` and the config's own.
     respawn: restart a process of the loop that dies (REJOINING), as the config's run.respawn

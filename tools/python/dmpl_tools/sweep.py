@@ -26,7 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import experiment
-from .launch import ACTIVE, RECORD_POLICIES, SetError
+from .launch import ACTIVE
+from .process_set import RECORD_POLICIES, SetError
 from .paths import OUT, ROOT
 from .run import add_common_args, run_experiment, strict_json
 
@@ -332,7 +333,7 @@ def run_sweep(config_path, seeds, jobs, out, sets=(), params=(), one_process=Tru
 def _run_here(specs, jobs, report):
     lock = threading.Lock()
     # With no more trials at a time than CPUs, each trial runs on a CPU of its own (a pinned
-    # loop wakes its processes locally; see launch.py); otherwise the scheduler places them.
+    # loop wakes its processes locally; see affinity.py); otherwise the scheduler places them.
     available = sorted(os.sched_getaffinity(0))
     pinned = jobs <= len(available)
     cpus = queue.Queue()

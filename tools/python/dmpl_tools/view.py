@@ -34,7 +34,7 @@ import numpy as np
 
 from . import channels, experiment
 from .hand_geometry import UrdfError, load_hand, rpy_matrix
-from .launch import resolve_lcm_url
+from .lcm_url import resolve_lcm_url
 from .logdata import (ROLE_NAMES, Columns, LogData, LogError, cumulative_rotation, extract,
                       task_axis)
 from .paths import ROOT
