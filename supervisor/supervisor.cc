@@ -226,9 +226,16 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
   out_.changed = false;
   const GraspState before = grasp_.state();
   if (grasp_.is(GraspState::ObjectHeld)) grasp_.Process(GraspEvent::Start);
+  OnControllerEvents(view.events);
+  TickGraspChart();
+  if (grasp_.state() != before) out_.changed = true;
+  if (out_.changed) last_action_ = regrasp_.last_action();
+  return out_;
+}
 
-  // Controller events -> chart events.
-  for (const ControllerEvent& e : view.events) {
+// Controller events -> chart events.
+void Supervisor::OnControllerEvents(const std::vector<ControllerEvent>& events) {
+  for (const ControllerEvent& e : events) {
     switch (e.type) {
       case EventType::kTargetReached:
         if (e.finger >= 0) reached_[e.finger] = true;
@@ -257,7 +264,10 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
         break;
     }
   }
+}
 
+// What the grasp chart's state does each tick (timeouts count from entering it).
+void Supervisor::TickGraspChart() {
   switch (grasp_.state()) {
     case GraspState::Approaching:
       TickApproach();
@@ -267,7 +277,7 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
       }
       break;
     case GraspState::Gripping:
-      if (view.grasp_stable) {
+      if (view_.grasp_stable) {
         grasp_.Process(GraspEvent::GraspStable);
       } else if (now_ - state_since_ > tasks_.grasp.timeout_s) {
         grasp_.Process(GraspEvent::Timeout, {"no stable grasp within " +
@@ -289,16 +299,9 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
         TickLocalTask();
       }
       break;
-    case GraspState::Recovering: {
-      bool all_touch = true;
-      for (const auto& f : view.fingers) all_touch = all_touch && f.in_contact;
-      if (view.grasp_stable && all_touch && now_ - state_since_ > 0.1) {
-        grasp_.Process(GraspEvent::Recovered);
-      } else if (now_ - state_since_ > params_.recovery_timeout_s) {
-        grasp_.Process(GraspEvent::Timeout, {"no stable grasp within the recovery timeout"});
-      }
+    case GraspState::Recovering:
+      TickRecovery();
       break;
-    }
     case GraspState::Done:
     case GraspState::Failed:
       if (!stop_sent_ && now_ - state_since_ >= params_.stop_after_s) {
@@ -309,9 +312,16 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
     default:
       break;
   }
-  if (grasp_.state() != before) out_.changed = true;
-  if (out_.changed) last_action_ = regrasp_.last_action();
-  return out_;
+}
+
+void Supervisor::TickRecovery() {
+  bool all_touch = true;
+  for (const auto& f : view_.fingers) all_touch = all_touch && f.in_contact;
+  if (view_.grasp_stable && all_touch && now_ - state_since_ > 0.1) {
+    grasp_.Process(GraspEvent::Recovered);
+  } else if (now_ - state_since_ > params_.recovery_timeout_s) {
+    grasp_.Process(GraspEvent::Timeout, {"no stable grasp within the recovery timeout"});
+  }
 }
 
 }  // namespace dmpl

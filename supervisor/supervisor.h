@@ -145,6 +145,9 @@ class Supervisor : private RegraspActions {
   void Fail(const std::string& why);
 
   // Per-tick work by state.
+  void OnControllerEvents(const std::vector<ControllerEvent>& events);
+  void TickGraspChart();
+  void TickRecovery();
   void TickApproach();
   void TickLocalTask();
   void TickGait();

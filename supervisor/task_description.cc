@@ -216,6 +216,110 @@ const char* ToString(Condition c) {
   return "?";
 }
 
+namespace {
+
+// The names a task file may use for a finger: the hand's, and `all`.
+void CheckFinger(const Checker& c, const std::vector<std::string>& fingers, const std::string& key,
+                 const std::string& f) {
+  if (f != "all" && std::find(fingers.begin(), fingers.end(), f) == fingers.end()) {
+    c.Fail(key, "no finger '" + f + "' on this hand");
+  }
+}
+
+GraspSpec ParseGrasp(const Checker& c, const GraspYaml& y, const std::vector<std::string>& fingers) {
+  GraspSpec g;
+  for (const auto& [f, p] : y.approach) {
+    CheckFinger(c, fingers, "grasp.approach." + f, f);
+    g.approach[f] = Eigen::Vector3d(p[0], p[1], p[2]);
+  }
+  if (!g.approach.empty() && g.approach.size() != fingers.size()) {
+    c.Fail("grasp.approach", "give an approach point for every finger, or none");
+  }
+  g.approach_extension_m = y.approach_extension_m;
+  g.max_extensions = y.max_extensions;
+  g.release_after_stable_s = y.release_after_stable_s;
+  g.settle_s = y.settle_s;
+  g.timeout_s = y.timeout_s;
+  return g;
+}
+
+GaitSpec ParseGait(const Checker& c, const GaitYaml& y, const std::vector<std::string>& fingers) {
+  for (const auto& f : y.order) CheckFinger(c, fingers, "gait.order", f);
+  if (y.order.size() != fingers.size()) {
+    c.Fail("gait.order", "list every finger once (the exploring order)");
+  }
+  const auto& about = y.overlap_about;
+  if (std::sqrt(about[0] * about[0] + about[1] * about[1] + about[2] * about[2]) < 1e-6) {
+    c.Fail("gait.overlap_about", "must be a direction (not zero)");
+  }
+  if (!(y.overlap_max_tilt_rad >= 0 && y.overlap_max_tilt_rad <= M_PI / 2)) {
+    c.Fail("gait.overlap_max_tilt_rad", "must be in [0, pi/2]");
+  }
+  if (!(y.tip_clearance_m >= 0 && y.tip_clearance_m <= 0.1)) {
+    c.Fail("gait.tip_clearance_m", "must be in [0, 0.1] m");
+  }
+  GaitSpec g;
+  g.order = y.order;
+  g.explore_timeout_s = y.explore_timeout_s;
+  g.rotate_timeout_s = y.rotate_timeout_s;
+  g.grip_timeout_s = y.grip_timeout_s;
+  g.settle_tolerance_rad = y.settle_tolerance_rad;
+  g.settle_time_s = y.settle_time_s;
+  g.overlap_about = about;
+  g.overlap_max_tilt_rad = y.overlap_max_tilt_rad;
+  g.tip_clearance_m = y.tip_clearance_m;
+  return g;
+}
+
+ObjectMotion ParseObjectMotion(const Checker& c, const std::string& key, const MotionYaml& m) {
+  ObjectMotion om;
+  om.reference = c.Pick<ObjectMotion::Reference>(
+      key + ".reference", m.reference,
+      {{"current", ObjectMotion::Reference::kCurrent}, {"start", ObjectMotion::Reference::kStart}});
+  om.axis = c.Pick<std::string>(key + ".axis", m.axis,
+                                {{"x", "x"}, {"y", "y"}, {"z", "z"}, {"task", "task"}});
+  const std::string units = c.Pick<std::string>(key + ".angle_units", m.angle_units,
+                                                {{"task", "task"}, {"rad", "rad"}});
+  om.angle = m.angle;
+  om.angle_in_task_units = units == "task";
+  om.max_angular_speed = m.max_angular_speed;
+  return om;
+}
+
+CTask ParseCTask(const Checker& c, const std::string& key, const CTaskYaml& ty,
+                 const std::vector<std::string>& fingers) {
+  CTask task;
+  task.name = ty.name.empty() ? key : ty.name;
+  task.type = c.Pick<TaskType>(key + ".type", ty.type,
+                               {{"local", TaskType::kLocal}, {"gait", TaskType::kGait}});
+  task.done_when = ParseCondition(c, key + ".done_when", ty.done_when);
+  task.duration_s = ty.duration_s;
+  task.timeout_s = ty.timeout_s;
+  if (task.done_when == Condition::kDuration && !(ty.duration_s > 0)) {
+    c.Fail(key + ".duration_s", "done_when: duration needs duration_s > 0");
+  }
+  if (!(ty.timeout_s > 0)) c.Fail(key + ".timeout_s", "must be > 0");
+  for (const auto& [f, seq] : ty.fingers) {
+    CheckFinger(c, fingers, key + ".fingers." + f, f);
+    if (seq.empty()) c.Fail(key + ".fingers." + f, "an empty PTask sequence");
+    for (size_t k = 0; k < seq.size(); ++k) {
+      task.fingers[f].push_back(
+          ParsePTask(c, key + ".fingers." + f + "[" + std::to_string(k) + "]", seq[k]));
+    }
+  }
+  if (task.type == TaskType::kLocal && task.fingers.empty()) {
+    c.Fail(key + ".fingers", "a local task needs the PTasks of its fingers");
+  }
+  if (ty.object_motion) {
+    task.motion = ParseObjectMotion(c, key + ".object_motion", *ty.object_motion);
+  } else if (task.done_when == Condition::kMotionDone && task.type == TaskType::kLocal) {
+    c.Fail(key + ".done_when", "motion_done needs an object_motion");
+  }
+  return task;
+}
+
+}  // namespace
+
 TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
                        const std::vector<std::string>& fingers) {
   TaskFileYaml y;
@@ -225,93 +329,14 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
     throw ConfigError(std::string("task file ") + e.what());
   }
   const Checker c(source);
-  auto known_finger = [&](const std::string& key, const std::string& f) {
-    if (f != "all" && std::find(fingers.begin(), fingers.end(), f) == fingers.end()) {
-      c.Fail(key, "no finger '" + f + "' on this hand");
-    }
-  };
   TaskFile t;
   t.source = source;
   t.name = y.name.empty() ? source : y.name;
-  for (const auto& [f, p] : y.grasp.approach) {
-    known_finger("grasp.approach." + f, f);
-    t.grasp.approach[f] = Eigen::Vector3d(p[0], p[1], p[2]);
-  }
-  t.grasp.approach_extension_m = y.grasp.approach_extension_m;
-  t.grasp.max_extensions = y.grasp.max_extensions;
-  t.grasp.release_after_stable_s = y.grasp.release_after_stable_s;
-  t.grasp.settle_s = y.grasp.settle_s;
-  t.grasp.timeout_s = y.grasp.timeout_s;
-  if (!t.grasp.approach.empty() && t.grasp.approach.size() != fingers.size()) {
-    c.Fail("grasp.approach", "give an approach point for every finger, or none");
-  }
-  for (const auto& f : y.gait.order) known_finger("gait.order", f);
-  if (y.gait.order.size() != fingers.size()) {
-    c.Fail("gait.order", "list every finger once (the exploring order)");
-  }
-  t.gait.order = y.gait.order;
-  t.gait.explore_timeout_s = y.gait.explore_timeout_s;
-  t.gait.rotate_timeout_s = y.gait.rotate_timeout_s;
-  t.gait.grip_timeout_s = y.gait.grip_timeout_s;
-  t.gait.settle_tolerance_rad = y.gait.settle_tolerance_rad;
-  t.gait.settle_time_s = y.gait.settle_time_s;
-  const auto& about = y.gait.overlap_about;
-  if (std::sqrt(about[0] * about[0] + about[1] * about[1] + about[2] * about[2]) < 1e-6) {
-    c.Fail("gait.overlap_about", "must be a direction (not zero)");
-  }
-  if (!(y.gait.overlap_max_tilt_rad >= 0 && y.gait.overlap_max_tilt_rad <= M_PI / 2)) {
-    c.Fail("gait.overlap_max_tilt_rad", "must be in [0, pi/2]");
-  }
-  t.gait.overlap_about = about;
-  t.gait.overlap_max_tilt_rad = y.gait.overlap_max_tilt_rad;
-  if (!(y.gait.tip_clearance_m >= 0 && y.gait.tip_clearance_m <= 0.1)) {
-    c.Fail("gait.tip_clearance_m", "must be in [0, 0.1] m");
-  }
-  t.gait.tip_clearance_m = y.gait.tip_clearance_m;
+  t.grasp = ParseGrasp(c, y.grasp, fingers);
+  t.gait = ParseGait(c, y.gait, fingers);
   if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
   for (size_t i = 0; i < y.tasks.size(); ++i) {
-    const CTaskYaml& ty = y.tasks[i];
-    const std::string key = "tasks[" + std::to_string(i) + "]";
-    CTask task;
-    task.name = ty.name.empty() ? key : ty.name;
-    task.type = c.Pick<TaskType>(key + ".type", ty.type,
-                                 {{"local", TaskType::kLocal}, {"gait", TaskType::kGait}});
-    task.done_when = ParseCondition(c, key + ".done_when", ty.done_when);
-    task.duration_s = ty.duration_s;
-    task.timeout_s = ty.timeout_s;
-    if (task.done_when == Condition::kDuration && !(ty.duration_s > 0)) {
-      c.Fail(key + ".duration_s", "done_when: duration needs duration_s > 0");
-    }
-    if (!(ty.timeout_s > 0)) c.Fail(key + ".timeout_s", "must be > 0");
-    for (const auto& [f, seq] : ty.fingers) {
-      known_finger(key + ".fingers." + f, f);
-      if (seq.empty()) c.Fail(key + ".fingers." + f, "an empty PTask sequence");
-      for (size_t k = 0; k < seq.size(); ++k) {
-        task.fingers[f].push_back(
-            ParsePTask(c, key + ".fingers." + f + "[" + std::to_string(k) + "]", seq[k]));
-      }
-    }
-    if (task.type == TaskType::kLocal && task.fingers.empty()) {
-      c.Fail(key + ".fingers", "a local task needs the PTasks of its fingers");
-    }
-    if (ty.object_motion) {
-      const MotionYaml& m = *ty.object_motion;
-      ObjectMotion om;
-      om.reference = c.Pick<ObjectMotion::Reference>(
-          key + ".object_motion.reference", m.reference,
-          {{"current", ObjectMotion::Reference::kCurrent}, {"start", ObjectMotion::Reference::kStart}});
-      om.axis = c.Pick<std::string>(key + ".object_motion.axis", m.axis,
-                                    {{"x", "x"}, {"y", "y"}, {"z", "z"}, {"task", "task"}});
-      const std::string units = c.Pick<std::string>(key + ".object_motion.angle_units",
-                                                    m.angle_units, {{"task", "task"}, {"rad", "rad"}});
-      om.angle = m.angle;
-      om.angle_in_task_units = units == "task";
-      om.max_angular_speed = m.max_angular_speed;
-      task.motion = om;
-    } else if (task.done_when == Condition::kMotionDone && task.type == TaskType::kLocal) {
-      c.Fail(key + ".done_when", "motion_done needs an object_motion");
-    }
-    t.tasks.push_back(task);
+    t.tasks.push_back(ParseCTask(c, "tasks[" + std::to_string(i) + "]", y.tasks[i], fingers));
   }
   return t;
 }

@@ -36,41 +36,105 @@ const std::map<std::string, const dmpl::NodeInfo*>& Registry() {
   return registry;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The recorder's options are this executable's own; the rest is a node's command line.
+struct OneProcessCommandLine {
   dmpl::RecordOptions record;
   std::string policy;
-  std::vector<char*> args = {argv[0]};
+  std::vector<char*> node_args;
+};
+
+OneProcessCommandLine SplitCommandLine(int argc, char** argv) {
+  OneProcessCommandLine cl;
+  cl.node_args = {argv[0]};
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--record" && i + 1 < argc) {
-      record.log_path = argv[++i];
+      cl.record.log_path = argv[++i];
     } else if (arg == "--record-policy" && i + 1 < argc) {
-      policy = argv[++i];
+      cl.policy = argv[++i];
     } else if (arg == "--columns" && i + 1 < argc) {
-      record.columns_dir = argv[++i];
+      cl.record.columns_dir = argv[++i];
     } else if (arg == "--columns-fields" && i + 1 < argc) {
-      record.columns_fields = argv[++i];
+      cl.record.columns_fields = argv[++i];
     } else {
-      args.push_back(argv[i]);
+      cl.node_args.push_back(argv[i]);
     }
   }
+  return cl;
+}
+
+// The experiment's `processes`, each built by its kind's factory with a context of its own in
+// `contexts` (which must outlive the nodes: a node may keep a reference to its context).
+std::vector<std::unique_ptr<dmpl::Node>> MakeNodes(const dmpl::NodeContext& ctx,
+                                                   std::list<dmpl::NodeContext>* contexts) {
+  const YAML::Node processes = ctx.config.root()["processes"];
+  if (!processes || !processes.IsSequence()) {
+    throw dmpl::ConfigError("config error in " + ctx.config.source() +
+                            ": no 'processes' list to take the nodes from");
+  }
+  std::vector<std::unique_ptr<dmpl::Node>> nodes;
+  for (const auto& p : processes) {
+    const std::string exec = p["exec"].as<std::string>();
+    const auto it = Registry().find(exec);
+    if (it == Registry().end()) {
+      throw dmpl::ConfigError("config error in " + ctx.config.source() + ": process '" + exec +
+                              "' has no one-process node");
+    }
+    // Only the simulator is given the object; the hand's own software senses it. (Built, never
+    // assigned: assigning a YAML::Node rebinds the node it shares with ctx.config.)
+    contexts->push_back(dmpl::NodeContext{
+        p["name"] ? p["name"].as<std::string>() : exec,
+        exec == "dmpl_sim" ? ctx.config : ctx.config.Without("object"), ctx.run, ctx.bus});
+    nodes.push_back(it->second->make(contexts->back()));
+  }
+  return nodes;
+}
+
+// Runs the nodes until the loop ends; the exit code of the run.
+int Run(dmpl::LcmBus* bus, const dmpl::RunParams& run,
+        const std::vector<std::unique_ptr<dmpl::Node>>& nodes, dmpl::LogRecorder* recorder,
+        spdlog::logger* log) {
+  dmpl::InstallStopSignalHandlers();
+  dmpl::Executor executor(bus, run.heartbeat_period_s);
+  for (auto& n : nodes) executor.Add(n.get());
+  const double t0 = dmpl::MonotonicSeconds();
+  const int code = executor.Spin();
+  while (bus->management().handleTimeout(0) > 0) {  // deliver what is still queued
+  }
+  if (recorder) {
+    try {
+      recorder->Finish();
+    } catch (const std::exception& e) {
+      log->critical("{}", e.what());
+      return 1;
+    }
+  }
+  log->info("{} nodes ran for {:.3f} s of wall time{}", nodes.size(), dmpl::MonotonicSeconds() - t0,
+            recorder ? ", " + std::to_string(recorder->written()) + " messages recorded" : "");
+  if (recorder && recorder->failed() > 0) return 1;
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  OneProcessCommandLine cl = SplitCommandLine(argc, argv);
   dmpl::NodeContext ctx;
-  dmpl::NodeCommandLine cl;
   try {
-    cl = dmpl::ParseNodeCommandLine(static_cast<int>(args.size()), args.data());
-    if (cl.help) {
+    const dmpl::NodeCommandLine node =
+        dmpl::ParseNodeCommandLine(static_cast<int>(cl.node_args.size()), cl.node_args.data());
+    if (node.help) {
       std::cout << "usage: dmpl_oneprocess --config FILE [--set key=value]... [--params FILE]..."
                    " [--record LOG] [--record-policy full|analysis|none] [--columns DIR]"
                    " [--columns-fields REGEX]\n";
       return 0;
     }
-    ctx.config = dmpl::Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
+    ctx.config = dmpl::Config::Resolve(node.config_file, node.params_files, node.set_overrides);
     ctx.config.Load("run", &ctx.run);
     ctx.run.Validate(ctx.config.source());
-    record.policy = dmpl::ParseRecordPolicy(policy.empty() ? ctx.run.record : policy);
-    if (record.log_path.empty()) record.policy = dmpl::RecordPolicy::kNone;
+    cl.record.policy = dmpl::ParseRecordPolicy(cl.policy.empty() ? ctx.run.record : cl.policy);
+    if (cl.record.log_path.empty()) cl.record.policy = dmpl::RecordPolicy::kNone;
+    cl.record.run_id = ctx.run.run_id;
   } catch (const std::exception& e) {
     std::cerr << "dmpl_oneprocess: " << e.what() << "\n";
     return 2;
@@ -88,59 +152,15 @@ int main(int argc, char** argv) {
   ctx.bus = &bus;
   std::list<dmpl::NodeContext> contexts;  // before the nodes: destroyed after them
   std::vector<std::unique_ptr<dmpl::Node>> nodes;
+  std::unique_ptr<dmpl::LogRecorder> recorder;
   try {
-    const YAML::Node processes = ctx.config.root()["processes"];
-    if (!processes || !processes.IsSequence()) {
-      throw dmpl::ConfigError("config error in " + ctx.config.source() +
-                              ": no 'processes' list to take the nodes from");
-    }
-    for (const auto& p : processes) {
-      const std::string exec = p["exec"].as<std::string>();
-      const auto it = Registry().find(exec);
-      if (it == Registry().end()) {
-        throw dmpl::ConfigError("config error in " + ctx.config.source() + ": process '" + exec +
-                                "' has no one-process node");
-      }
-      ctx.name = p["name"] ? p["name"].as<std::string>() : exec;
-      // Only the simulator is given the object; the hand's own software senses it. Nodes may
-      // keep a reference to their context: each lives as long as the nodes. (Built, never
-      // assigned: assigning a YAML::Node rebinds the node it shares with ctx.config.)
-      contexts.push_back(dmpl::NodeContext{
-          ctx.name, exec == "dmpl_sim" ? ctx.config : ctx.config.Without("object"), ctx.run,
-          ctx.bus});
-      nodes.push_back(it->second->make(contexts.back()));
+    nodes = MakeNodes(ctx, &contexts);
+    if (!cl.record.log_path.empty() || !cl.record.columns_dir.empty()) {
+      recorder = std::make_unique<dmpl::LogRecorder>(&bus, cl.record);
     }
   } catch (const std::exception& e) {
     log->critical("{}", e.what());
     return 2;
   }
-  std::unique_ptr<dmpl::LogRecorder> recorder;
-  if (!record.log_path.empty() || !record.columns_dir.empty()) {
-    record.run_id = ctx.run.run_id;
-    try {
-      recorder = std::make_unique<dmpl::LogRecorder>(&bus, record);
-    } catch (const std::exception& e) {
-      log->critical("{}", e.what());
-      return 2;
-    }
-  }
-  dmpl::InstallStopSignalHandlers();
-  dmpl::Executor executor(&bus, ctx.run.heartbeat_period_s);
-  for (auto& n : nodes) executor.Add(n.get());
-  const double t0 = dmpl::MonotonicSeconds();
-  const int code = executor.Spin();
-  while (bus.management().handleTimeout(0) > 0) {  // deliver what is still queued
-  }
-  if (recorder) {
-    try {
-      recorder->Finish();
-    } catch (const std::exception& e) {
-      log->critical("{}", e.what());
-      return 1;
-    }
-  }
-  log->info("{} nodes ran for {:.3f} s of wall time{}", nodes.size(), dmpl::MonotonicSeconds() - t0,
-            recorder ? ", " + std::to_string(recorder->written()) + " messages recorded" : "");
-  if (recorder && recorder->failed() > 0) return 1;
-  return code;
+  return Run(&bus, ctx.run, nodes, recorder.get(), log.get());
 }
