@@ -1,4 +1,5 @@
 #pragma once
+#include <string_view>
 // The one table of LCM channel names. Every channel is listed in kChannelBuses below: the build
 // prints that table for Python and the shell tools (dmpl_channels_py -> build/python/dmpl_channels.py).
 namespace dmpl::channels {
@@ -61,5 +62,17 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kViewTruth, 8},
     {kViewSensed, 8},
 };
+
+// The loop's channels: in a run with an identity (run.run_id), a message on one of them without
+// the run's identity is not the run's (only a node started by hand, with no identity, takes
+// messages sent by hand). Control channels (SIM_CONTROL) still take a message sent by hand.
+inline constexpr const char* kLoopChannels[] = {kSensorsTrue, kSensors,    kFingerTargets,
+                                                kJointCmd,    kTask,       kControllerReport};
+inline bool IsLoopChannel(std::string_view channel) {
+  for (const char* c : kLoopChannels) {
+    if (channel == c) return true;
+  }
+  return false;
+}
 
 }  // namespace dmpl::channels

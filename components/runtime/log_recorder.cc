@@ -5,15 +5,17 @@
 #include <stdexcept>
 
 #include "components/logging/message_layout.h"
+#include "components/runtime/channels.h"
 
 namespace dmpl {
 
 namespace {
 
-// A message of another run: its run is neither `run_id` nor none.
-bool OfAnotherRun(const uint8_t* data, size_t size, int64_t run_id) {
+// A message that is not this run's (the nodes' rule, Node::OfThisRun): another run's, or one
+// without an identity on a loop channel of a run that has one.
+bool OfAnotherRun(const std::string& channel, const uint8_t* data, size_t size, int64_t run_id) {
   const int64_t theirs = RunIdOf(data, size);
-  return run_id != 0 && theirs != 0 && theirs != run_id;
+  return run_id != 0 && theirs != run_id && (theirs != 0 || channels::IsLoopChannel(channel));
 }
 
 }  // namespace
@@ -78,7 +80,7 @@ bool LogRecorder::IsCopy(const std::string& channel, const uint8_t* data, size_t
 
 void LogRecorder::OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
   const auto* data = static_cast<const uint8_t*>(rbuf->data);
-  if (OfAnotherRun(data, rbuf->data_size, run_id_)) {
+  if (OfAnotherRun(channel, data, rbuf->data_size, run_id_)) {
     ++foreign_;
     return;
   }

@@ -55,7 +55,11 @@ Node::Node(const NodeContext& ctx) : Node(ctx.name, ctx.bus) { run_id_ = ctx.run
 
 void Node::CountForeign(const std::string& channel, int64_t run_id) {
   ++foreign_;
-  if (LogThisOccurrence(foreign_)) {
+  if (!LogThisOccurrence(foreign_)) return;
+  if (run_id == 0) {
+    log().warn("a message on {} carries no run identity, which this run's loop requires (this "
+               "is {:x}); {} not this run's so far, ignored", channel, run_id_, foreign_);
+  } else {
     log().warn("a message on {} belongs to another run ({:x}, this is {:x}); {} so far, ignored",
                channel, run_id, run_id_, foreign_);
   }

@@ -15,6 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "components/logging/decode.h"
+#include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
 #include "components/runtime/config.h"
 #include "components/runtime/lcm_bus.h"
@@ -71,15 +72,16 @@ class Node {
                                          const Msg*),
                  Handler* handler) {
     auto decoding = std::make_unique<Decoding>();
-    decoding->fn = [this, method, handler](const lcm::ReceiveBuffer* rbuf,
-                                           const std::string& ch) {
+    const bool loop = channels::IsLoopChannel(channel);
+    decoding->fn = [this, method, handler, loop](const lcm::ReceiveBuffer* rbuf,
+                                                 const std::string& ch) {
       Msg msg;
       if (!DecodeMessage(rbuf->data, rbuf->data_size, &msg)) {
         CountUndecodable(ch, Msg::getTypeName(), rbuf->data_size);
         return;
       }
       if constexpr (HasRunId<Msg>::value) {
-        if (!OfThisRun(msg.run_id)) {
+        if (!OfThisRun(msg.run_id, loop)) {
           CountForeign(ch, msg.run_id);
           return;
         }
@@ -92,9 +94,10 @@ class Node {
   int64_t undecodable() const { return undecodable_; }
   // This run's identity, for the messages the node sends (0: none).
   int64_t run_id() const { return run_id_; }
-  // A message of `run_id` is this run's: the same id, or none on either side (sent by hand).
-  bool OfThisRun(int64_t run_id) const {
-    return run_id == 0 || run_id_ == 0 || run_id == run_id_;
+  // A message of `run_id` is this run's: the same id, or none on this side (a node started by
+  // hand), or, except on the loop's channels, none on the message's (sent by hand).
+  bool OfThisRun(int64_t run_id, bool loop_channel) const {
+    return run_id_ == 0 || run_id == run_id_ || (run_id == 0 && !loop_channel);
   }
 
   // Runs `fn` every `period_s` seconds of wall time from the executor's loop.

@@ -27,7 +27,9 @@ def rot_x(angle):
 
 
 class Supervisor(threading.Thread):
-    """Answers every controller report k with the task of seq k (lockstep), as dmpl_supervisor."""
+    """Answers every controller report k with the task of seq k (lockstep), as dmpl_supervisor:
+    a process of the run, whose identity it takes from the reports (the run's nodes take no loop
+    message without it)."""
 
     def __init__(self):
         super().__init__(daemon=True)
@@ -40,9 +42,9 @@ class Supervisor(threading.Thread):
         self.t_done = None
         self.log = []
 
-    def task(self, seq, target=None):
+    def task(self, run_id, seq, target=None):
         m = task_cmd_t()
-        m.seq, m.task_id, m.name = seq, self.task_id, self.phase
+        m.run_id, m.seq, m.task_id, m.name = run_id, seq, self.task_id, self.phase
         m.has_object_target = target is not None
         if target is not None:
             m.object_position, m.object_orientation = list(target[0]), list(target[1])
@@ -61,7 +63,7 @@ class Supervisor(threading.Thread):
         if self.phase == "grip":
             if t >= 0.2 and not self.released:
                 c = sim_control_t()
-                c.seq, c.command, c.reason = s.seq, sim_control_t.RELEASE, "test"
+                c.run_id, c.seq, c.command, c.reason = s.run_id, s.seq, sim_control_t.RELEASE, "test"
                 self.bus.publish("DMPL_SIM_CONTROL", c)
                 self.released = True
             if t >= 0.8:
@@ -79,9 +81,9 @@ class Supervisor(threading.Thread):
             target = self.start_pose
         if self.phase == "hold" and t > self.t_done + 0.5:
             c = sim_control_t()
-            c.seq, c.command, c.reason = s.seq, sim_control_t.STOP, "test done"
+            c.run_id, c.seq, c.command, c.reason = s.run_id, s.seq, sim_control_t.STOP, "test done"
             self.bus.publish("DMPL_SIM_CONTROL", c)
-        self.task(s.seq, target)
+        self.task(s.run_id, s.seq, target)
 
     def run(self):
         hb = heartbeat_t()

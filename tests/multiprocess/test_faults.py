@@ -41,8 +41,10 @@ def wait_for_process(name, timeout=30.0):
     return found["pid"]
 
 
-def forge(stop):
-    """Sends bad messages on the loop's channels until `stop` is set."""
+def forge(stop, run_id):
+    """Sends bad messages on the loop's channels until `stop` is set: forged ones half with the
+    run's identity (they must pass it and be refused by their values), half without (refused for
+    that: a run's loop takes no message without its identity)."""
     rng = random.Random(3)
     bus = mp.Bus()
     names = [f"{f}_j{j}" for f in "TFMR" for j in range(4)]
@@ -75,7 +77,9 @@ def forge(stop):
             seq = rng.choice([-7, -1, 10 ** 9, 2 ** 62])
             value = rng.choice([math.nan, 1e300, -1e9, 0.3])
             n = rng.choice([16, 3, 0])
-            data = forged[channel](seq, value, n).encode()
+            message = forged[channel](seq, value, n)
+            message.run_id = rng.choice([0, run_id])
+            data = message.encode()
         elif rng.random() < 0.5:
             data = bytes(rng.getrandbits(8) for _ in range(rng.randrange(0, 600)))
         else:
@@ -151,15 +155,17 @@ class FaultsTest(unittest.TestCase):
         # While a lockstep gait runs, this test sends on every channel of the loop random bytes
         # and truncated messages; on the channels only nodes read (the metrics' are the truth,
         # the task and the report), real messages forged with a seq the loop is not at (negative,
-        # far ahead) and NaN, huge values or the wrong number of joints; then a PAUSE from
-        # nowhere and a RESUME a second later. The run ends as one without any of it.
+        # far ahead) and NaN, huge values or the wrong number of joints, with the run's identity
+        # or none; then a PAUSE from nowhere and a RESUME a second later. The run ends as one
+        # without any of it.
         clean, _ = run_experiment(GAIT, self.tmp / "clean", echo=False, sets=["task.angle=1.5"])
-        result, stop = {}, threading.Event()
+        result, stop, run_id = {}, threading.Event(), 0x5EED
         thread = threading.Thread(target=lambda: result.update(run_experiment(
-            GAIT, self.tmp / "attacked", echo=False, sets=["task.angle=1.5"])[0]))
+            GAIT, self.tmp / "attacked", echo=False,
+            sets=["task.angle=1.5", f"run.run_id={run_id}"])[0]))
         thread.start()
         wait_for_process("dmpl_sim")
-        forger = threading.Thread(target=forge, args=(stop,))
+        forger = threading.Thread(target=forge, args=(stop, run_id))
         forger.start()
         bus = mp.Bus()
         time.sleep(1.0)
@@ -188,6 +194,9 @@ class FaultsTest(unittest.TestCase):
         self.assertIn("resumed at", sim_log)
         for node in ("dmpl_noise", "dmpl_controller", "dmpl_ik"):
             self.assertIn("is not a", (self.tmp / "attacked" / f"{node}.log").read_text(), node)
+        for node in ("dmpl_controller", "dmpl_ik", "dmpl_sim"):  # the forged channels' readers
+            self.assertIn("carries no run identity",
+                          (self.tmp / "attacked" / f"{node}.log").read_text(), node)
 
     def test_a_run_ignores_another_runs_messages(self):
         # Another run on the same URL (here forged from this run's own truth, with another

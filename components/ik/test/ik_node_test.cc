@@ -104,5 +104,22 @@ TEST_F(IkNodeTest, AForgedSeqFarAheadDoesNotSilenceTheNode) {
   EXPECT_EQ(Seqs(), (std::vector<int64_t>{0, 1, 2}));
 }
 
+// In a run with an identity (run.run_id), a loop message without it (sent by hand, or forged) or
+// with another run's is not taken; a node started by hand (the fixture's) takes every message.
+TEST_F(IkNodeTest, InARunWithAnIdentityOnlyTheRunsOwnTicksAreTaken) {
+  NodeHarness run(kIkNode, {"run.lockstep=true", "run.run_id=7"});
+  std::deque<joint_cmd_t>& commands = run.Collect<joint_cmd_t>(channels::kJointCmd);
+  finger_targets_t targets = Targets(0);
+  run.Publish(channels::kFingerTargets, targets);  // run_id 0
+  targets.run_id = 5;
+  run.Publish(channels::kFingerTargets, targets);
+  EXPECT_TRUE(commands.empty());
+  targets.run_id = 7;
+  run.Publish(channels::kFingerTargets, targets);
+  ASSERT_EQ(commands.size(), 1u);
+  EXPECT_EQ(commands.back().seq, 0);
+  EXPECT_EQ(commands.back().run_id, 7);
+}
+
 }  // namespace
 }  // namespace dmpl

@@ -8,6 +8,7 @@
 
 #include "components/runtime/channels.h"
 #include "dmpl/hand_sensors_t.hpp"
+#include "dmpl/sim_control_t.hpp"
 #include "dmpl/sim_status_t.hpp"
 
 namespace dmpl {
@@ -58,13 +59,16 @@ TEST_F(LogRecorderTest, RecordsNothingOfAnotherRun) {
   LogRecorder recorder(&bus_, options);
   Publish(channels::kSensorsTrue, Truth(7, 1));  // this run's
   Publish(channels::kSensorsTrue, Truth(5, 1));  // another run's
-  Publish(channels::kSensorsTrue, Truth(0, 2));  // none: sent by hand, kept
+  Publish(channels::kSensorsTrue, Truth(0, 2));  // none, on a loop channel: not this run's
+  sim_control_t pause{};                         // none, on a control channel: sent by hand, kept
+  pause.seq = 2;
+  Publish(channels::kSimControl, pause);
   sim_status_t status{};                         // a type without a run: kept
   status.seq = 3;
   Publish(channels::kSimStatus, status);
   Drain();
   EXPECT_EQ(recorder.written(), 3);
-  EXPECT_EQ(recorder.foreign(), 1);
+  EXPECT_EQ(recorder.foreign(), 2);
 }
 
 }  // namespace
