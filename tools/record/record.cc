@@ -7,7 +7,7 @@
 //
 // usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] [--policy P]
 //                    [--columns DIR [--fields REGEX]] [--run-id N] [FILE]
-// --run-id N: messages of another run (a run_id neither N nor 0) are neither logged nor extracted.
+// --run-id N: messages of another run (Node::OfThisRun's rule) are neither logged nor extracted.
 // Every bus of the URL is recorded (channels.h), unless --single-bus. --policy (full, analysis,
 // none; components/logging/record_policy.h) says what FILE keeps; --columns DIR extracts the
 // metrics' columns of every message online (components/logging/log_columns.h). With --policy
@@ -19,114 +19,136 @@
 #include <csignal>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "components/runtime/clock.h"
 #include "components/runtime/log_recorder.h"
 
 namespace {
+
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
-}  // namespace
 
-int main(int argc, char** argv) {
-  std::string url, policy = "full";
+struct CommandLine {
+  std::string url;
+  std::string policy = "full";
   dmpl::RecordOptions options;
   bool single_bus = false;
+};
+
+constexpr int kContinue = -1;  // ParseCommandLine: run; otherwise the exit code
+
+int ParseCommandLine(int argc, char** argv, CommandLine* cl) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--lcm-url" && i + 1 < argc) {
-      url = argv[++i];
+      cl->url = argv[++i];
     } else if (arg == "--channels" && i + 1 < argc) {
-      options.channels = argv[++i];
+      cl->options.channels = argv[++i];
     } else if (arg == "--policy" && i + 1 < argc) {
-      policy = argv[++i];
+      cl->policy = argv[++i];
     } else if (arg == "--columns" && i + 1 < argc) {
-      options.columns_dir = argv[++i];
+      cl->options.columns_dir = argv[++i];
     } else if (arg == "--fields" && i + 1 < argc) {
-      options.columns_fields = argv[++i];
+      cl->options.columns_fields = argv[++i];
     } else if (arg == "--run-id" && i + 1 < argc) {
       try {
-        options.run_id = std::stoll(argv[++i]);
+        cl->options.run_id = std::stoll(argv[++i]);
       } catch (const std::exception&) {
         std::fprintf(stderr, "dmpl_record: --run-id: not an integer: '%s'\n", argv[i]);
         return 2;
       }
     } else if (arg == "--single-bus") {
-      single_bus = true;
+      cl->single_bus = true;
     } else if (arg == "-h" || arg == "--help") {
       std::printf(
           "usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] "
           "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [--run-id N] "
           "[FILE]\n");
       return 0;
-    } else if (arg.rfind("--", 0) == 0 || !options.log_path.empty()) {
+    } else if (arg.rfind("--", 0) == 0 || !cl->options.log_path.empty()) {
       std::fprintf(stderr, "dmpl_record: unexpected argument '%s' (try --help)\n", arg.c_str());
       return 2;
     } else {
-      options.log_path = arg;
+      cl->options.log_path = arg;
     }
   }
   try {
-    options.policy = dmpl::ParseRecordPolicy(policy);
+    cl->options.policy = dmpl::ParseRecordPolicy(cl->policy);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dmpl_record: --policy: %s\n", e.what());
     return 2;
   }
-  if (options.log_path.empty() != (options.policy == dmpl::RecordPolicy::kNone)) {
+  if (cl->options.log_path.empty() != (cl->options.policy == dmpl::RecordPolicy::kNone)) {
     std::fprintf(
         stderr, "dmpl_record: %s\n",
-        options.log_path.empty() ? "no output FILE given" : "--policy none records no FILE");
+        cl->options.log_path.empty() ? "no output FILE given" : "--policy none records no FILE");
     return 2;
   }
-  const std::string file = options.log_path.empty() ? "(no log)" : options.log_path;
-  dmpl::LcmBus bus(url, !single_bus);
-  const std::vector<lcm::LCM*> instances = bus.All();
+  return kContinue;
+}
+
+// Handles what is queued on any bus, waiting up to `timeout_ms` for something; how many it handled.
+int Drain(const std::vector<lcm::LCM*>& instances, int timeout_ms) {
+  std::vector<pollfd> fds;
+  for (lcm::LCM* l : instances) fds.push_back({l->getFileno(), POLLIN, 0});
+  int handled = 0;
+  if (poll(fds.data(), fds.size(), timeout_ms) <= 0) return 0;
+  for (size_t i = 0; i < instances.size(); ++i) {
+    if (!(fds[i].revents & POLLIN)) continue;
+    while (instances[i]->handleTimeout(0) > 0) ++handled;
+  }
+  return handled;
+}
+
+// Records until SIGINT or SIGTERM, then what arrived before it; the exit code.
+int Record(dmpl::LcmBus* bus, const CommandLine& cl) {
+  const std::vector<lcm::LCM*> instances = bus->All();
+  dmpl::LogRecorder recorder(bus, cl.options);
+  struct sigaction action {};
+  action.sa_handler = OnSignal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  double last_flush = dmpl::MonotonicSeconds();
+  while (!g_stop) {
+    // Drain in batches: waking for each of a lockstep run's ~6000 messages a second would
+    // take CPU time from the loop it records (LCM's queue holds what arrives meanwhile).
+    if (Drain(instances, 50) > 0) usleep(2000);
+    if (dmpl::MonotonicSeconds() - last_flush > 0.2) {
+      recorder.Flush();
+      last_flush = dmpl::MonotonicSeconds();
+    }
+  }
+  // What arrived before the stop, for at most a second: a bus that never goes quiet (another
+  // run, a forger) must not keep the recorder from finishing its log.
+  const double drain_until = dmpl::MonotonicSeconds() + 1.0;
+  while (Drain(instances, 20) > 0 && dmpl::MonotonicSeconds() < drain_until) {
+  }
+  recorder.Finish();
+  const std::string file = cl.options.log_path.empty() ? "(no log)" : cl.options.log_path;
+  std::fprintf(stderr,
+               "dmpl_record: %lld of %lld messages written to %s (policy %s)%s; copies sent "
+               "again %lld, of other runs %lld (not recorded)\n",
+               static_cast<long long>(recorder.written()),
+               static_cast<long long>(recorder.received()), file.c_str(), cl.policy.c_str(),
+               recorder.failed() ? " (SOME WRITES FAILED)" : "",
+               static_cast<long long>(recorder.copies()),
+               static_cast<long long>(recorder.foreign()));
+  return recorder.failed() ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CommandLine cl;
+  if (const int code = ParseCommandLine(argc, argv, &cl); code != kContinue) return code;
+  dmpl::LcmBus bus(cl.url, !cl.single_bus);
   if (!bus.good()) {
-    std::fprintf(stderr, "dmpl_record: cannot open LCM '%s'\n", url.c_str());
+    std::fprintf(stderr, "dmpl_record: cannot open LCM '%s'\n", cl.url.c_str());
     return 3;
   }
-  auto drain = [&](int timeout_ms) {
-    std::vector<pollfd> fds;
-    for (lcm::LCM* l : instances) fds.push_back({l->getFileno(), POLLIN, 0});
-    int handled = 0;
-    if (poll(fds.data(), fds.size(), timeout_ms) <= 0) return 0;
-    for (size_t i = 0; i < instances.size(); ++i) {
-      if (!(fds[i].revents & POLLIN)) continue;
-      while (instances[i]->handleTimeout(0) > 0) ++handled;
-    }
-    return handled;
-  };
   try {
-    dmpl::LogRecorder recorder(&bus, options);
-    struct sigaction action {};
-    action.sa_handler = OnSignal;
-    sigaction(SIGINT, &action, nullptr);
-    sigaction(SIGTERM, &action, nullptr);
-    double last_flush = dmpl::MonotonicSeconds();
-    while (!g_stop) {
-      // Drain in batches: waking for each of a lockstep run's ~6000 messages a second would
-      // take CPU time from the loop it records (LCM's queue holds what arrives meanwhile).
-      if (drain(50) > 0) usleep(2000);
-      if (dmpl::MonotonicSeconds() - last_flush > 0.2) {
-        recorder.Flush();
-        last_flush = dmpl::MonotonicSeconds();
-      }
-    }
-    // What arrived before the stop, for at most a second: a bus that never goes quiet (another
-    // run, a forger) must not keep the recorder from finishing its log.
-    const double drain_until = dmpl::MonotonicSeconds() + 1.0;
-    while (drain(20) > 0 && dmpl::MonotonicSeconds() < drain_until) {
-    }
-    recorder.Finish();
-    std::fprintf(stderr,
-                 "dmpl_record: %lld of %lld messages written to %s (policy %s)%s; copies sent "
-                 "again %lld, of other runs %lld (not recorded)\n",
-                 static_cast<long long>(recorder.written()),
-                 static_cast<long long>(recorder.received()), file.c_str(), policy.c_str(),
-                 recorder.failed() ? " (SOME WRITES FAILED)" : "",
-                 static_cast<long long>(recorder.copies()),
-                 static_cast<long long>(recorder.foreign()));
-    return recorder.failed() ? 1 : 0;
+    return Record(&bus, cl);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dmpl_record: %s\n", e.what());
     return 2;

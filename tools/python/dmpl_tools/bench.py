@@ -136,19 +136,28 @@ def main(argv=None):
     ap.add_argument("--json", help="write the result here too")
     ap.add_argument("--rounds", type=int, help="alternating rounds (default: sim 3, loop 5)")
     args = ap.parse_args(argv)
-    if args.what == "sim":
-        result = bench_sim(args.rounds or 3)
-    elif args.what == "ik":
-        from .bench_ik import bench_ik
-        result = bench_ik()
-    else:
-        from .bench_loop import bench_loop
-        result = bench_loop(args.rounds or 5)
+    from .process_set import SetError
+    try:
+        if args.what == "sim":
+            result = bench_sim(args.rounds or 3)
+        elif args.what == "ik":
+            from .bench_ik import bench_ik
+            result = bench_ik()
+        else:
+            from .bench_loop import bench_loop
+            result = bench_loop(args.rounds or 5)
+    except SetError as e:  # e.g. another run on the URL the loop benchmark needs
+        print(f"dmpl bench: error: {e}", file=sys.stderr)
+        return 2
     text = json.dumps(result, indent=2)
     print(text)
     if args.json:
-        with open(args.json, "w") as f:
-            f.write(text + "\n")
+        try:
+            with open(args.json, "w") as f:
+                f.write(text + "\n")
+        except OSError as e:
+            print(f"dmpl bench: error: cannot write {args.json}: {e.strerror}", file=sys.stderr)
+            return 2
     return 0
 
 
