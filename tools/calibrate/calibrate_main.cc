@@ -9,8 +9,10 @@
 // `tools/dmpl run ... --params FILE` overlays on an experiment, and a Markdown report of the fits
 // (FILE.md unless --report). Missing data is an error that says what is missing; a fit that does
 // not converge is reported and nothing is written.
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -51,15 +53,18 @@ void ReportFit(std::ostream& os, const FitResult& fit) {
   os << "\n";
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+struct CommandLine {
   std::vector<std::string> logs;
   std::string out, report_path, config_path;
+};
+
+constexpr int kContinue = -1;  // ParseCommandLine: go on; otherwise the exit code
+
+int ParseCommandLine(int argc, char** argv, CommandLine* cl) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if ((arg == "--out" || arg == "--report" || arg == "--config") && i + 1 < argc) {
-      (arg == "--out" ? out : arg == "--report" ? report_path : config_path) = argv[++i];
+      (arg == "--out" ? cl->out : arg == "--report" ? cl->report_path : cl->config_path) = argv[++i];
     } else if (arg == "-h" || arg == "--help") {
       std::cout << "usage: tools/dmpl calibrate LOG... [--out FILE] [--report FILE] "
                    "[--config FILE]\n";
@@ -68,88 +73,91 @@ int main(int argc, char** argv) {
       std::cerr << "dmpl calibrate: unknown option '" << arg << "'\n";
       return 2;
     } else {
-      logs.push_back(arg);
+      cl->logs.push_back(arg);
     }
   }
-  if (logs.empty()) {
+  if (cl->logs.empty()) {
     std::cerr << "dmpl calibrate: give at least one LOG\n";
     return 2;
   }
-  if (out.empty()) out = "calibration.yaml";
-  if (report_path.empty()) report_path = out + ".md";
+  if (cl->out.empty()) cl->out = "calibration.yaml";
+  if (cl->report_path.empty()) cl->report_path = cl->out + ".md";
   // The gains the logs were recorded with: the run's config, next to its log.
-  if (config_path.empty()) {
-    const auto guess = std::filesystem::path(logs.front()).parent_path() / "config.yaml";
-    if (std::filesystem::exists(guess)) config_path = guess.string();
+  if (cl->config_path.empty()) {
+    const auto guess = std::filesystem::path(cl->logs.front()).parent_path() / "config.yaml";
+    if (std::filesystem::exists(guess)) cl->config_path = guess.string();
   }
-  dmpl::ControllerParams current;
-  try {
-    if (!config_path.empty()) dmpl::Config::Resolve(config_path, {}, {}).Load("controller", &current);
-  } catch (const std::exception& e) {
-    std::cerr << "dmpl calibrate: " << e.what() << "\n";
-    return 2;
-  }
+  return kContinue;
+}
 
-  std::vector<FitResult> fits;
+// Every fit, in the order the overlay reads them: force, contact offset, surface, then (when the
+// force response was identified) the grip and exploration gains chosen on it.
+struct Fits {
+  std::vector<FitResult> results;
   dmpl::calib::PiGains grip, explore;
-  try {
-    const dmpl::calib::LogData data = dmpl::calib::ReadLogs(logs);
-    if (data.ticks.empty() || data.fingers.empty()) {
-      throw dmpl::calib::DataError("no DMPL_SENSORS/DMPL_SENSORS_TRUE messages in the logs");
+  bool ok() const {
+    for (const auto& f : results) {
+      if (!f.ok) return false;
     }
-    std::cerr << "dmpl calibrate: " << data.messages << " messages, " << data.ticks.size()
-              << " ticks from " << logs.size() << " log(s)\n";
-    fits.push_back(dmpl::calib::FitForce(data));
-    fits.push_back(dmpl::calib::FitContactOffset(data));
-    const FitResult& offset = fits.back();
-    const Eigen::Vector3d o(offset.ok ? offset.Get("offset_x") : 0.0,
-                            offset.ok ? offset.Get("offset_y") : 0.0,
-                            offset.ok ? offset.Get("offset_z") : 0.0);
-    fits.push_back(dmpl::calib::FitSurface(data, o));
-    std::vector<dmpl::calib::FingerModel> models;
-    fits.push_back(dmpl::calib::FitForceResponse(data, &models));
-    if (fits.back().ok) {
-      fits.push_back(dmpl::calib::ChooseForceGains(
-          models, 1e-3, 0.1, current.grip_force_n, {current.force.kp, current.force.ki},
-          "grip force PI gains (a step 0.1 N -> grip force on the identified fingers)", &grip));
-      fits.push_back(dmpl::calib::ChooseForceGains(
-          models, 1e-3, 0.5, current.explore_force_n,
-          {current.explore_force.kp, current.explore_force.ki},
-          "exploration force PI gains (a step down to the exploration force)", &explore));
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "dmpl calibrate: " << e.what() << "; nothing written\n";
-    return 2;
+    return true;
   }
+};
 
+Fits RunFits(const std::vector<std::string>& logs, const dmpl::ControllerParams& current) {
+  Fits fits;
+  const dmpl::calib::LogData data = dmpl::calib::ReadLogs(logs);
+  if (data.ticks.empty() || data.fingers.empty()) {
+    throw dmpl::calib::DataError("no DMPL_SENSORS/DMPL_SENSORS_TRUE messages in the logs");
+  }
+  std::cerr << "dmpl calibrate: " << data.messages << " messages, " << data.ticks.size()
+            << " ticks from " << logs.size() << " log(s)\n";
+  auto& r = fits.results;
+  r.push_back(dmpl::calib::FitForce(data));
+  r.push_back(dmpl::calib::FitContactOffset(data));
+  const FitResult& offset = r.back();
+  const Eigen::Vector3d o(offset.ok ? offset.Get("offset_x") : 0.0,
+                          offset.ok ? offset.Get("offset_y") : 0.0,
+                          offset.ok ? offset.Get("offset_z") : 0.0);
+  r.push_back(dmpl::calib::FitSurface(data, o));
+  std::vector<dmpl::calib::FingerModel> models;
+  r.push_back(dmpl::calib::FitForceResponse(data, &models));
+  if (r.back().ok) {
+    r.push_back(dmpl::calib::ChooseForceGains(
+        models, 1e-3, 0.1, current.grip_force_n, {current.force.kp, current.force.ki},
+        "grip force PI gains (a step 0.1 N -> grip force on the identified fingers)", &fits.grip));
+    r.push_back(dmpl::calib::ChooseForceGains(
+        models, 1e-3, 0.5, current.explore_force_n,
+        {current.explore_force.kp, current.explore_force.ki},
+        "exploration force PI gains (a step down to the exploration force)", &fits.explore));
+  }
+  return fits;
+}
+
+std::string Report(const CommandLine& cl, const Fits& fits) {
   std::ostringstream report;
   std::time_t now = std::time(nullptr);
   report << "# dmpl calibration\n\nLogs:";
-  for (const auto& l : logs) report << " `" << l << "`";
+  for (const auto& l : cl.logs) report << " `" << l << "`";
   report << "\n\nDate: " << std::ctime(&now) << "\nGains the logs were recorded with: from `"
-         << (config_path.empty() ? std::string("(defaults)") : config_path) << "`.\n\n";
-  bool ok = true;
-  for (const auto& f : fits) {
-    ReportFit(report, f);
-    ok = ok && f.ok;
-  }
-  if (!ok) {
-    std::cout << report.str();
-    std::cerr << "dmpl calibrate: a fit did not converge (see above); nothing written\n";
-    return 1;
-  }
-  const FitResult& force = fits[0];
-  const FitResult& pos = fits[1];
-  const FitResult& surface = fits[2];
-  std::ofstream yaml(out);
+         << (cl.config_path.empty() ? std::string("(defaults)") : cl.config_path) << "`.\n\n";
+  for (const auto& f : fits.results) ReportFit(report, f);
+  return report.str();
+}
+
+// The overlay a run takes with --params.
+std::string Overlay(const CommandLine& cl, const Fits& fits, const dmpl::ControllerParams& current) {
+  const FitResult& force = fits.results[0];
+  const FitResult& pos = fits.results[1];
+  const FitResult& surface = fits.results[2];
+  std::ostringstream yaml;
   yaml.precision(6);
   yaml << "# Written by tools/dmpl calibrate from";
-  for (const auto& l : logs) yaml << " " << l;
-  yaml << "\n# Overlay it on an experiment: tools/dmpl run CONFIG --params " << out << "\n"
+  for (const auto& l : cl.logs) yaml << " " << l;
+  yaml << "\n# Overlay it on an experiment: tools/dmpl run CONFIG --params " << cl.out << "\n"
        << "controller:\n"
-       << "  force: {kp: " << grip.kp << ", ki: " << grip.ki
+       << "  force: {kp: " << fits.grip.kp << ", ki: " << fits.grip.ki
        << ", integral_limit: " << current.force.integral_limit << "}\n"
-       << "  explore_force: {kp: " << explore.kp << ", ki: " << explore.ki
+       << "  explore_force: {kp: " << fits.explore.kp << ", ki: " << fits.explore.ki
        << ", integral_limit: " << current.explore_force.integral_limit << "}\n"
        << "  # The tactile readings, corrected before use: force = (sensed - bias) / scale,\n"
        << "  # contact point = sensed - offset.\n"
@@ -163,9 +171,43 @@ int main(int argc, char** argv) {
        << "  surface_centre_offset: [" << surface.Get("centre_from_estimate_x") << ", "
        << surface.Get("centre_from_estimate_y") << ", " << surface.Get("centre_from_estimate_z")
        << "]\n";
-  yaml.close();
-  std::ofstream(report_path) << report.str();
-  std::cout << report.str();
-  std::cerr << "dmpl calibrate: wrote " << out << " and " << report_path << "\n";
+  return yaml.str();
+}
+
+bool WriteFile(const std::string& path, const std::string& text) {
+  std::ofstream file(path);
+  file << text;
+  file.close();
+  if (file) return true;
+  std::cerr << "dmpl calibrate: cannot write " << path << ": " << std::strerror(errno) << "\n";
+  return false;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CommandLine cl;
+  if (const int code = ParseCommandLine(argc, argv, &cl); code != kContinue) return code;
+  dmpl::ControllerParams current;
+  Fits fits;
+  try {
+    if (!cl.config_path.empty()) {
+      dmpl::Config::Resolve(cl.config_path, {}, {}).Load("controller", &current);
+    }
+    fits = RunFits(cl.logs, current);
+  } catch (const std::exception& e) {
+    std::cerr << "dmpl calibrate: " << e.what() << "; nothing written\n";
+    return 2;
+  }
+  const std::string report = Report(cl, fits);
+  std::cout << report;
+  if (!fits.ok()) {
+    std::cerr << "dmpl calibrate: a fit did not converge (see above); nothing written\n";
+    return 1;
+  }
+  if (!WriteFile(cl.out, Overlay(cl, fits, current)) || !WriteFile(cl.report_path, report)) {
+    return 2;
+  }
+  std::cerr << "dmpl calibrate: wrote " << cl.out << " and " << cl.report_path << "\n";
   return 0;
 }
