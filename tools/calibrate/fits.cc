@@ -218,10 +218,71 @@ FitResult FitContactOffset(const LogData& data) {
   return result;
 }
 
+// One shape fitted to the contact points: its parameters (with standard deviations) and each
+// point's distance from its surface.
+struct ShapeFit {
+  bool ok = false;
+  std::vector<Estimate> params;
+  std::vector<double> residuals;
+};
+
+ShapeFit FitSphereTo(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& start,
+                     double start_radius) {
+  double c[3] = {start.x(), start.y(), start.z()}, r = start_radius;
+  ceres::Problem problem;
+  for (const auto& p : points) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<SphereResidual, 1, 3, 1>(new SphereResidual{p}),
+        new ceres::CauchyLoss(0.002), c, &r);
+  }
+  FitResult solved;
+  ShapeFit fit;
+  fit.ok = Solve(&problem, &solved);
+  const Eigen::Vector3d centre(c[0], c[1], c[2]);
+  for (const auto& p : points) fit.residuals.push_back((p - centre).norm() - r);
+  if (!fit.ok) return fit;
+  const auto sd = StdDevs(&problem, c, 3);
+  const auto sr = StdDevs(&problem, &r, 1);
+  fit.params = {{"centre_x", c[0], sd[0], "m"}, {"centre_y", c[1], sd[1], "m"},
+                {"centre_z", c[2], sd[2], "m"}, {"radius", r, sr[0], "m"}};
+  return fit;
+}
+
+// `axis`: where the axis starts (the normal of the points' best plane).
+ShapeFit FitCylinderTo(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& start,
+                       const Eigen::Vector3d& start_axis, double start_radius) {
+  double c[3] = {start.x(), start.y(), start.z()};
+  double axis[3] = {start_axis.x(), start_axis.y(), start_axis.z()}, r = start_radius;
+  ceres::Problem problem;
+  for (const auto& p : points) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<CylinderResidual, 1, 3, 3, 1>(new CylinderResidual{p}),
+        new ceres::CauchyLoss(0.002), c, axis, &r);
+  }
+  problem.SetManifold(axis, new ceres::SphereManifold<3>());
+  FitResult solved;
+  ShapeFit fit;
+  fit.ok = Solve(&problem, &solved);
+  const Eigen::Vector3d a(axis[0], axis[1], axis[2]), c0(c[0], c[1], c[2]);
+  for (const auto& p : points) {
+    const Eigen::Vector3d d = p - c0;
+    fit.residuals.push_back((d - d.dot(a) * a).norm() - r);
+  }
+  if (!fit.ok) return fit;
+  const auto sd = StdDevs(&problem, c, 3);
+  const auto sr = StdDevs(&problem, &r, 1);
+  fit.params = {{"centre_x", c[0], sd[0], "m"}, {"centre_y", c[1], sd[1], "m"},
+                {"centre_z", c[2], sd[2], "m"}, {"radius", r, sr[0], "m"},
+                {"axis_x", axis[0], kNaN, ""},  {"axis_y", axis[1], kNaN, ""},
+                {"axis_z", axis[2], kNaN, ""}};
+  return fit;
+}
+
 FitResult FitSurface(const LogData& data, const Eigen::Vector3d& offset) {
   FitResult result;
   result.name = "object surface from contact positions (sphere or cylinder)";
   result.residual_unit = "m";
+  // The firm contacts' points (offset corrected), and the object estimate while they were made.
   std::vector<Eigen::Vector3d> points;
   Eigen::Vector3d object_mean = Eigen::Vector3d::Zero();
   int object_samples = 0;
@@ -259,38 +320,9 @@ FitResult FitSurface(const LogData& data, const Eigen::Vector3d& offset) {
   for (const auto& p : points) mean_dist += (p - mean).norm();
   mean_dist /= points.size();
 
-  // Sphere.
-  double c[3] = {mean.x(), mean.y(), mean.z()}, r = mean_dist;
-  ceres::Problem sphere;
-  for (const auto& p : points) {
-    sphere.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<SphereResidual, 1, 3, 1>(new SphereResidual{p}),
-        new ceres::CauchyLoss(0.002), c, &r);
-  }
-  FitResult sphere_fit;
-  const bool sphere_ok = Solve(&sphere, &sphere_fit);
-  std::vector<double> sphere_res;
-  for (const auto& p : points) sphere_res.push_back((p - Eigen::Vector3d(c[0], c[1], c[2])).norm() - r);
-
-  // Cylinder: the axis starts as the normal of the points' best plane.
-  const Eigen::Vector3d n = eig.eigenvectors().col(0);
-  double cc[3] = {mean.x(), mean.y(), mean.z()}, axis[3] = {n.x(), n.y(), n.z()}, cr = mean_dist;
-  ceres::Problem cylinder;
-  for (const auto& p : points) {
-    cylinder.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<CylinderResidual, 1, 3, 3, 1>(new CylinderResidual{p}),
-        new ceres::CauchyLoss(0.002), cc, axis, &cr);
-  }
-  cylinder.SetManifold(axis, new ceres::SphereManifold<3>());
-  FitResult cylinder_fit;
-  const bool cylinder_ok = Solve(&cylinder, &cylinder_fit);
-  std::vector<double> cyl_res;
-  const Eigen::Vector3d ca(axis[0], axis[1], axis[2]), c0(cc[0], cc[1], cc[2]);
-  for (const auto& p : points) {
-    const Eigen::Vector3d d = p - c0;
-    cyl_res.push_back((d - d.dot(ca) * ca).norm() - cr);
-  }
-  if (!sphere_ok && !cylinder_ok) {
+  const ShapeFit sphere = FitSphereTo(points, mean, mean_dist);
+  const ShapeFit cylinder = FitCylinderTo(points, mean, eig.eigenvectors().col(0), mean_dist);
+  if (!sphere.ok && !cylinder.ok) {
     result.ok = false;
     result.message = "neither a sphere nor a cylinder fit converged";
     return result;
@@ -303,27 +335,22 @@ FitResult FitSurface(const LogData& data, const Eigen::Vector3d& offset) {
   // Contacts around one circle (a plane of points) fit spheres of any radius centred on its axis:
   // only the circle's centre is determined, which the cylinder fit gives. Otherwise prefer the
   // sphere (one parameter fewer) unless the cylinder is clearly better.
+  const double sphere_rms = Rms(sphere.residuals), cylinder_rms = Rms(cylinder.residuals);
   const bool planar = std::sqrt(eig.eigenvalues()(0)) < 0.2 * std::sqrt(eig.eigenvalues()(1));
-  const bool use_sphere = sphere_ok && !planar && (!cylinder_ok || Rms(sphere_res) <= 1.2 * Rms(cyl_res));
-  if (use_sphere) {
-    const auto sd = StdDevs(&sphere, c, 3);
-    const auto sr = StdDevs(&sphere, &r, 1);
-    result.message = "sphere (cylinder rms " + std::to_string(Rms(cyl_res)) + " m)";
-    result.rms_after = Rms(sphere_res);
-    result.params = {{"centre_x", c[0], sd[0], "m"}, {"centre_y", c[1], sd[1], "m"},
-                     {"centre_z", c[2], sd[2], "m"}, {"radius", r, sr[0], "m"}};
-  } else {
-    const auto sd = StdDevs(&cylinder, cc, 3);
-    const auto sr = StdDevs(&cylinder, &cr, 1);
-    result.message = planar ? "the contacts lie around one circle: its centre and radius (a "
-                              "sphere or a cylinder alike)"
-                            : "cylinder (sphere rms " + std::to_string(Rms(sphere_res)) + " m)";
-    result.rms_after = Rms(cyl_res);
-    result.params = {{"centre_x", cc[0], sd[0], "m"}, {"centre_y", cc[1], sd[1], "m"},
-                     {"centre_z", cc[2], sd[2], "m"}, {"radius", cr, sr[0], "m"},
-                     {"axis_x", axis[0], kNaN, ""}, {"axis_y", axis[1], kNaN, ""},
-                     {"axis_z", axis[2], kNaN, ""}};
+  const bool use_sphere =
+      sphere.ok && !planar && (!cylinder.ok || sphere_rms <= 1.2 * cylinder_rms);
+  if (!use_sphere && !cylinder.ok) {
+    result.ok = false;
+    result.message = "the contacts lie around one circle and the cylinder fit did not converge";
+    return result;
   }
+  const ShapeFit& chosen = use_sphere ? sphere : cylinder;
+  result.message = use_sphere ? "sphere (cylinder rms " + std::to_string(cylinder_rms) + " m)"
+                   : planar   ? "the contacts lie around one circle: its centre and radius (a "
+                                "sphere or a cylinder alike)"
+                              : "cylinder (sphere rms " + std::to_string(sphere_rms) + " m)";
+  result.rms_after = Rms(chosen.residuals);
+  result.params = chosen.params;
   const Eigen::Vector3d centre(result.Get("centre_x"), result.Get("centre_y"),
                                result.Get("centre_z"));
   const Eigen::Vector3d rel = centre - object_mean;
