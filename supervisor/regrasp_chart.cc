@@ -46,6 +46,12 @@ RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> fin
   DMPL_DEMAND(std::is_permutation(order_.begin(), order_.end(), fingers_.begin(), fingers_.end()));
 }
 
+void RegraspChart::set_next_explorer(const std::string& finger) {
+  const auto it = std::find(order_.begin(), order_.end(), finger);
+  DMPL_DEMAND(it != order_.end());
+  next_ = static_cast<int>(it - order_.begin());
+}
+
 std::vector<std::string> RegraspChart::Grippers(int k) const {
   std::vector<std::string> out;
   for (const std::string& f : fingers_) {

@@ -64,6 +64,8 @@ class RegraspChart {
   RegraspState state() const { return chart_.state(); }
   const std::string& last_action() const { return last_action_; }
   const std::string& next_explorer() const { return order_[next_]; }
+  // Who explores next (one of the fingers): instead of the next in the order.
+  void set_next_explorer(const std::string& finger);
   int regrasps() const { return regrasps_; }
   bool rotating() const { return phase_ == Phase::kRotating; }
   bool exploring() const { return phase_ == Phase::kExploring; }

@@ -123,6 +123,17 @@ class Supervisor : private RegraspActions {
   // toward is now (and the rest of the step it will still turn).
   void KeepExplorerClear();
   double StepSpeed() const;          // the reference's speed in the step under way
+  // task.max_finger_deviation_rad: the angle (about the object's centre) between finger k's home
+  // and where it would be after `turn` (about the centre; sensed tip and object estimate).
+  double Deviation(int k, const Eigen::AngleAxisd& turn) const;
+  // The largest part of `step` about `axis` that leaves every finger that rides it (all but
+  // `skip`, if any; only fingers in contact) within the deviation, or no further than it is.
+  double StepWithinReach(const Eigen::Vector3d& axis, double step, int skip) const;
+  // The next explorer: the finger (not `skip`) that `step` about `axis` takes furthest.
+  void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
+  bool LimitDeviation() const {
+    return task_params_.has_goals() && task_params_.max_finger_deviation_rad > 0;
+  }
 
   // Commands.
   void NewTask(const std::string& name);
@@ -199,6 +210,7 @@ class Supervisor : private RegraspActions {
   // The explorer's point before KeepClear, and how to keep it clear while it slides (the
   // finger it slides toward keeps moving, and so may the object).
   Eigen::Vector3d explore_point_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d explore_axis_ = Eigen::Vector3d::UnitX();  // the step axis when it began
   bool explore_spaced_ = false;
   bool explore_neighbour_rides_ = false;
   double explore_sign_ = 1.0;
@@ -206,7 +218,16 @@ class Supervisor : private RegraspActions {
   GoalSequence goals_;
 
   // Contingencies.
+  // A finger placed again in a recovery (params_.replace_after_s): lifting, moving over to its
+  // home, or coming in.
+  enum class Replace { kNone, kLift, kOver, kIn };
+  void TickReplace();
+  std::vector<Replace> replace_;
+  std::vector<double> replace_since_;
   int recoveries_ = 0;
+  // Recoveries that count against supervisor.max_recoveries: since the start, or since the last
+  // goal orientation reached (a goal reached after them is progress, not a grasp going bad).
+  int recoveries_counted_ = 0;
   bool process_lost_ = false;
   bool stop_sent_ = false;
   bool release_sent_ = false;

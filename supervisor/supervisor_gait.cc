@@ -89,9 +89,20 @@ void Supervisor::Explore(const std::string& finger) {
   const bool spaced = tasks_.gait.tip_clearance_m > 0 && AroundFingers(axis);
   step_limit_ = spaced ? GaitStepLimit(axis) : 0.0;
   const double step = StepSize();
-  const double back = -sign * task_params_.explore_travel * rides * step / 2.0;
+  double back = -sign * task_params_.explore_travel * rides * step / 2.0;
+  if (LimitDeviation()) {
+    // No further back than the deviation allows: a turn by phi about the axis moves a point at
+    // beta from it by 2 asin(sin(beta) sin(phi / 2)).
+    const Eigen::Vector3d home = (home_[f] - home_centre_).normalized();
+    const double sin_beta = axis.normalized().cross(home).norm();
+    const double d = task_params_.max_finger_deviation_rad;
+    const double most =
+        sin_beta <= std::sin(d / 2) ? M_PI : 2.0 * std::asin(std::sin(d / 2) / sin_beta);
+    back = std::copysign(std::min(std::abs(back), most), back);
+  }
   const Eigen::AngleAxisd turn(back, axis);
   explore_point_ = view_.object.translation() + turn * (home_[f] - home_centre_);
+  explore_axis_ = axis;
   explore_spaced_ = spaced;
   explore_neighbour_rides_ = !four;
   explore_sign_ = sign;
@@ -116,6 +127,12 @@ void Supervisor::Rotate(const std::vector<std::string>& grippers) {
     // One step from where the object is toward the current goal, the shortest way.
     const AxisAngle to_goal = RotationToGoal(SensedOrientation(), goals_.current());
     step_ = std::min(StepSize(), to_goal.angle);
+    if (LimitDeviation()) {
+      // The explorer, if it slides meanwhile, does not ride this step.
+      const int skip = regrasp_.exploring() ? explorer_ : -1;
+      step_ = StepWithinReach(to_goal.axis, step_, skip);
+      ChooseNextExplorer(to_goal.axis, step_ + StepSize(), skip);
+    }
     goal_.linear() =
         (Eigen::AngleAxisd(step_, to_goal.axis) * SensedOrientation()).toRotationMatrix();
     has_goal_ = true;
@@ -136,6 +153,47 @@ void Supervisor::Grip(const std::string& finger) {
   explorer_ = -1;
   NewTask(regrasp_.last_action());
   SetFinger(Finger(finger), Role::kGrip, Primitive::kComposite);
+  if (LimitDeviation()) ChooseNextExplorer(StepAxis(), StepSize(), -1);
+}
+
+double Supervisor::Deviation(int k, const Eigen::AngleAxisd& turn) const {
+  const Eigen::Vector3d home = home_[k] - home_centre_;
+  const Eigen::Vector3d now = turn * (view_.fingers[k].tip - view_.object.translation());
+  const double c = home.dot(now) / (home.norm() * now.norm());
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+double Supervisor::StepWithinReach(const Eigen::Vector3d& axis_in, double step, int skip) const {
+  const Eigen::Vector3d axis = axis_in.normalized();
+  const double limit = task_params_.max_finger_deviation_rad;
+  constexpr int kSamples = 16;
+  double allowed = 0.0;
+  for (int i = 1; i <= kSamples; ++i) {
+    const double phi = step * i / kSamples;
+    for (size_t k = 0; k < fingers_.size(); ++k) {
+      if (static_cast<int>(k) == skip || !view_.fingers[k].in_contact) continue;
+      const double now = Deviation(static_cast<int>(k), Eigen::AngleAxisd(0.0, axis));
+      if (Deviation(static_cast<int>(k), Eigen::AngleAxisd(phi, axis)) > std::max(limit, now)) {
+        return allowed;
+      }
+    }
+    allowed = phi;
+  }
+  return allowed;
+}
+
+void Supervisor::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
+  int next = -1;
+  double furthest = -1.0;
+  for (size_t k = 0; k < fingers_.size(); ++k) {
+    if (static_cast<int>(k) == skip) continue;
+    const double d = Deviation(static_cast<int>(k), Eigen::AngleAxisd(step, axis.normalized()));
+    if (d > furthest) {
+      furthest = d;
+      next = static_cast<int>(k);
+    }
+  }
+  if (next >= 0) regrasp_.set_next_explorer(fingers_[next]);
 }
 
 void Supervisor::Finish() { gait_done_ = true; }
@@ -222,7 +280,9 @@ Eigen::Vector3d Supervisor::KeepClear(int explorer, const Eigen::Vector3d& axis_
 
 void Supervisor::KeepExplorerClear() {
   if (!explore_spaced_ || explorer_ < 0) return;
-  const Eigen::Vector3d axis = StepAxis().normalized();
+  // About the axis the explore began with: a goal reached meanwhile turns the next steps about
+  // another one, and the explorer's point was chosen for this one.
+  const Eigen::Vector3d axis = explore_axis_.normalized();
   // What the step still has to turn about the axis: the finger it slides toward rides it.
   double remaining = 0.0;
   if (explore_neighbour_rides_ && has_goal_) {
@@ -270,6 +330,7 @@ void Supervisor::TickGoals() {
     case GoalSequence::Event::kReached:
       Note("goal " + std::to_string(goals_.reached()) + " of " + std::to_string(goals_.size()) +
            " reached in " + Fixed(goals_.times_s().back()) + " s");
+      recoveries_counted_ = 0;
       if (goals_.complete()) gait_done_ = true;
       break;
     case GoalSequence::Event::kTimedOut:

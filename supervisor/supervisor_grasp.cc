@@ -2,6 +2,7 @@
 // fail.
 #include "supervisor/supervisor.h"
 
+#include <algorithm>
 #include <string>
 
 #include "components/runtime/check.h"
@@ -44,9 +45,9 @@ Supervisor::GraspChart Supervisor::BuildGraspChart() {
   const sc::Guard more("more tasks", [this] { return task_index_ + 1 < num_tasks(); });
   const sc::Guard last("last task", [this] { return task_index_ + 1 >= num_tasks(); });
   const sc::Guard can_recover("recoveries left",
-                              [this] { return recoveries_ < params_.max_recoveries; });
+                              [this] { return recoveries_counted_ < params_.max_recoveries; });
   const sc::Guard cannot_recover("no recoveries left",
-                                 [this] { return recoveries_ >= params_.max_recoveries; });
+                                 [this] { return recoveries_counted_ >= params_.max_recoveries; });
   return GraspChart("grasp", S::ObjectHeld, {
       // from           event             guard           action            to
       {S::ObjectHeld,  E::Start,         sc::kAlways,    approach,         S::Approaching},
@@ -120,12 +121,14 @@ void Supervisor::TickApproach() {
 
 void Supervisor::PauseAndRegrip(const std::string& why) {
   ++recoveries_;
+  ++recoveries_counted_;
   if (task_index_ >= 0 && tasks_.tasks[task_index_].type == TaskType::kGait) {
     regrasp_.Process(RegraspEvent::Abort);
     explorer_ = -1;
   }
   NewTask("recover");
   AllGrip();
+  std::fill(replace_.begin(), replace_.end(), Replace::kNone);
   // The orientation where the object is (what turned, turned), the position where the task held
   // it: an object that drifted away from a finger that lost it is brought back into that
   // finger's reach instead of being held where the finger cannot touch it.

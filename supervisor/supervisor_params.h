@@ -35,6 +35,12 @@ struct TaskParams {
   double overlap_angular_speed = 0.0;
   double explore_force_n = 0.1;         // the exploration finger's force (the paper's 0.1 N)
   double explore_travel = 1.0;          // the explorer goes back (steps it rides) / 2 * step * this
+  // A gait toward goal orientations turns about a new axis at every goal, so a finger's steps no
+  // longer straddle its home. With this > 0 (rad, seen from the object's centre) no finger is
+  // taken further than this from its home (where it held the object when the first task began):
+  // an explorer goes back at most this far, a step turns at most what keeps the fingers that
+  // ride it within it, and the next explorer is the finger the next step would take furthest.
+  double max_finger_deviation_rad = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -53,6 +59,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(overlap_angular_speed), AtLeast(0));
     a->Visit(DMPL_NVP(explore_force_n), AtLeast(0));
     a->Visit(DMPL_NVP(explore_travel), AtLeast(0));
+    a->Visit(DMPL_NVP(max_finger_deviation_rad), InRange(0, 3.141592653589793));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations
@@ -63,8 +70,18 @@ struct SupervisorParams {
   std::vector<std::string> required_processes = {"dmpl_sim", "dmpl_noise", "dmpl_ik",
                                                  "dmpl_controller"};
   double heartbeat_timeout_s = 2.0;     // wall clock: a silent process makes the supervisor hold
-  int max_recoveries = 10;              // contingencies handled before the run fails
+  // Contingencies handled before the run fails (toward goal orientations: since the last goal
+  // reached).
+  int max_recoveries = 10;
   double recovery_timeout_s = 3.0;
+  // In a recovery, a grip finger still without contact this long after the recovery began is
+  // placed again (<= 0: never): lifted off by replace_lift_m along the line from the object's
+  // centre, moved to its home (where it held the object when the first task began, about where
+  // the object is now) as far out, and brought in by a grip. A finger that lost its contact far
+  // from home often rests on the object with a link (no tactile sensor there) and would press
+  // on it forever with its tip just short of the surface.
+  double replace_after_s = 0.2;
+  double replace_lift_m = 0.01;
   double stop_after_s = 0.5;            // after the last task (or a failure): stop the simulator
   int status_every_ticks = 10;          // DMPL_SUPERVISOR_STATUS rate (and on every change)
 
@@ -74,6 +91,8 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(heartbeat_timeout_s), Above(0));
     a->Visit(DMPL_NVP(max_recoveries), AtLeast(0));
     a->Visit(DMPL_NVP(recovery_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(replace_after_s));
+    a->Visit(DMPL_NVP(replace_lift_m), AtLeast(0));
     a->Visit(DMPL_NVP(stop_after_s), AtLeast(0));
     a->Visit(DMPL_NVP(status_every_ticks), AtLeast(1));
   }
