@@ -306,6 +306,75 @@ TEST(SupervisorTest, ExplorersPointKeepsClearOfTheFingerItSlidesToward) {
   EXPECT_NEAR((target - c).norm(), radius, 1e-9);  // still on its circle about the object
 }
 
+TEST(SupervisorTest, RecoveryPlacesAFingerThatDoesNotTouchAgain) {
+  Driver d("fig8_rotate");
+  PlaceTips(&d, 0.037);
+  const Eigen::Vector3d c = d.view.object.translation();
+  d.Grasp();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  // R lost its contact 30 deg from its home, and does not touch again by itself (a link of it
+  // rests on the object).
+  d.view.fingers[3].tip =
+      c + Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()) * Eigen::Vector3d(0, -0.037, 0);
+  d.view.fingers[3].in_contact = false;
+  d.Event(EventType::kContactLost, 3);
+  d.Tick();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  EXPECT_EQ(d.sup.roles()[3], Role::kGrip);
+  for (int i = 0; i < 25; ++i) d.Tick();
+  // Lifted off along the line from the centre...
+  const FingerTask lift = d.Tick().task.fingers[3];
+  EXPECT_EQ(lift.primitive, Primitive::kPosition);
+  const Eigen::Vector3d out = (d.view.fingers[3].tip - c).normalized();
+  EXPECT_LT((lift.target - (d.view.fingers[3].tip + 0.01 * out)).norm(), 1e-9);
+  // ...over its home as far out...
+  d.Event(EventType::kTargetReached, 3);
+  const FingerTask over = d.Tick().task.fingers[3];
+  EXPECT_EQ(over.primitive, Primitive::kPosition);
+  EXPECT_LT((over.target - (c + Eigen::Vector3d(0, -0.047, 0))).norm(), 1e-9);
+  // ...and in by a grip; the recovery ends when it touches and the grasp is stable.
+  d.Event(EventType::kTargetReached, 3);
+  EXPECT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kComposite);
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  d.view.fingers[3].in_contact = true;
+  for (int i = 0; i < 20; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+}
+
+TEST(SupervisorTest, TowardGoalsNoFingerIsTakenFarFromItsHome) {
+  // A goal a turn about z away: F and R move toward and away from the palm.
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.step = 0.26;
+  tp.max_finger_deviation_rad = 0.35;
+  OrientationParam goal;
+  goal.q = Eigen::AngleAxisd(1.5, Eigen::Vector3d::UnitZ());
+  tp.goals = {goal};
+  Driver d("fig10_gait", tp);
+  PlaceTips(&d, 0.037);
+  const Eigen::Vector3d c = d.view.object.translation();
+  d.Grasp();
+  const SupervisorOutput& out = d.Tick();
+  ASSERT_EQ(d.sup.regrasp().last_action(), "A4 R explore");
+  // R goes back 0.35 rad about z, not half the four steps it rides (0.52).
+  const Eigen::Vector3d expected =
+      c + Eigen::AngleAxisd(-0.35, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d(0, -0.037, 0);
+  EXPECT_LT((out.task.fingers[3].target - expected).norm(), 1e-6);
+  d.view.fingers[3].tip = expected;
+  d.Event(EventType::kTargetReached, 3);
+  d.Tick();
+  EXPECT_EQ(d.sup.regrasp().last_action(), "A3 R grip");
+  // F already stands 0.2 rad from its home along the turn: the four turn no more than keeps it
+  // within 0.35 (to the step's sixteenths), and F explores next.
+  d.view.fingers[1].tip =
+      c + Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d(0, 0.037, 0);
+  for (int i = 0; i < 10 && !d.sup.regrasp().rotating(); ++i) d.Tick();
+  ASSERT_TRUE(d.sup.regrasp().rotating());
+  EXPECT_GT(d.sup.rotation_commanded(), 0.15 - 0.26 / 16);
+  EXPECT_LE(d.sup.rotation_commanded(), 0.15 + 1e-9);
+  EXPECT_EQ(d.sup.regrasp().next_explorer(), "F");
+}
+
 TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
   auto error = [](auto change) {
     TaskParams tp;
