@@ -178,4 +178,56 @@ void Supervisor::Fail(const std::string& why) {
   Note("failed: " + why);
 }
 
+// A grip finger that does not touch again in a recovery: lifted off, moved over its home, brought
+// in by a grip (supervisor.replace_after_s).
+void Supervisor::TickReplace() {
+  if (params_.replace_after_s <= 0 || task_index_ < 0) return;
+  const Eigen::Vector3d centre = view_.object.translation();
+  for (size_t k = 0; k < fingers_.size(); ++k) {
+    const int f = static_cast<int>(k);
+    const double since = now_ - replace_since_[k];
+    switch (replace_[k]) {
+      case Replace::kNone:
+        if (!view_.fingers[k].in_contact && now_ - state_since_ > params_.replace_after_s) {
+          // Off the surface along the line from the centre.
+          Eigen::Vector3d out = view_.fingers[k].tip - centre;
+          if (out.norm() < 1e-6) out = home_[k] - home_centre_;
+          const Eigen::Vector3d target =
+              view_.fingers[k].tip + params_.replace_lift_m * out.normalized();
+          SetFinger(f, Role::kFree, Primitive::kPosition, &target);
+          reached_[k] = false;
+          replace_[k] = Replace::kLift;
+          replace_since_[k] = now_;
+          Note("placing finger " + fingers_[k] + " again");
+        }
+        break;
+      case Replace::kLift:
+        if (reached_[k] || since > 1.0) {
+          // Over its home, as far out.
+          const Eigen::Vector3d home = home_[k] - home_centre_;
+          const Eigen::Vector3d target =
+              centre + home.normalized() * (home.norm() + params_.replace_lift_m);
+          SetFinger(f, Role::kFree, Primitive::kPosition, &target);
+          reached_[k] = false;
+          replace_[k] = Replace::kOver;
+          replace_since_[k] = now_;
+          out_.changed = true;
+        }
+        break;
+      case Replace::kOver:
+        if (reached_[k] || since > 1.5) {
+          SetFinger(f, Role::kGrip, Primitive::kComposite);
+          replace_[k] = Replace::kIn;
+          replace_since_[k] = now_;
+          out_.changed = true;
+        }
+        break;
+      case Replace::kIn:
+        // Touching: done; still nothing after a while: lift and try again.
+        if (view_.fingers[k].in_contact || since > 1.0) replace_[k] = Replace::kNone;
+        break;
+    }
+  }
+}
+
 }  // namespace dmpl
