@@ -185,11 +185,11 @@ HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParam
   sim_.Validate(source);
   object_params_.Validate(source);
   for (const auto& [finger, q] : sim_.initial_joints) {
-    const std::string key = "config error in " + source + ": key 'sim.initial_joints." + finger;
+    const std::string at = "config error in " + source + ": key 'sim.initial_joints." + finger;
     const int f = model_.FindFinger(finger);
-    if (f < 0) throw ConfigError(key + "': no such finger");
+    if (f < 0) throw ConfigError(at + "': no such finger");
     if (q.size() != model_.fingers()[f].joints.size()) {
-      throw ConfigError(key + "': expected " +
+      throw ConfigError(at + "': expected " +
                         std::to_string(model_.fingers()[f].joints.size()) + " joint angles");
     }
   }
