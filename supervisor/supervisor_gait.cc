@@ -166,16 +166,18 @@ double Supervisor::Deviation(int k, const Eigen::AngleAxisd& turn) const {
 double Supervisor::StepWithinReach(const Eigen::Vector3d& axis_in, double step, int skip) const {
   const Eigen::Vector3d axis = axis_in.normalized();
   const double limit = task_params_.max_finger_deviation_rad;
+  // Each riding finger's bound: the limit, or where it stands if it is already beyond.
+  std::vector<double> bound(fingers_.size(), 0.0);
+  for (size_t k = 0; k < fingers_.size(); ++k) {
+    bound[k] = std::max(limit, Deviation(static_cast<int>(k), Eigen::AngleAxisd(0.0, axis)));
+  }
   constexpr int kSamples = 16;
   double allowed = 0.0;
   for (int i = 1; i <= kSamples; ++i) {
     const double phi = step * i / kSamples;
     for (size_t k = 0; k < fingers_.size(); ++k) {
       if (static_cast<int>(k) == skip || !view_.fingers[k].in_contact) continue;
-      const double now = Deviation(static_cast<int>(k), Eigen::AngleAxisd(0.0, axis));
-      if (Deviation(static_cast<int>(k), Eigen::AngleAxisd(phi, axis)) > std::max(limit, now)) {
-        return allowed;
-      }
+      if (Deviation(static_cast<int>(k), Eigen::AngleAxisd(phi, axis)) > bound[k]) return allowed;
     }
     allowed = phi;
   }

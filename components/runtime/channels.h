@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <string_view>
 // The one table of LCM channel names. Every channel is listed in kChannelBuses below: the build
 // prints that table for Python and the shell tools (dmpl_channels_py -> build/python/dmpl_channels.py).
@@ -73,6 +74,13 @@ inline bool IsLoopChannel(std::string_view channel) {
     if (channel == c) return true;
   }
   return false;
+}
+
+// Whether a process of run `own` takes a message of run `theirs` (0: no identity) on a channel:
+// the same run, or no identity on this side (a node started by hand), or, except on the loop's
+// channels, none on the message's (sent by hand). Nodes and the recorder share this rule.
+inline bool OfRun(int64_t own, int64_t theirs, bool loop_channel) {
+  return own == 0 || theirs == own || (theirs == 0 && !loop_channel);
 }
 
 }  // namespace dmpl::channels

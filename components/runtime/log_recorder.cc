@@ -11,11 +11,9 @@ namespace dmpl {
 
 namespace {
 
-// A message that is not this run's (the nodes' rule, Node::OfThisRun): another run's, or one
-// without an identity on a loop channel of a run that has one.
+// A message that is not this run's (the nodes' rule: channels::OfRun).
 bool OfAnotherRun(const std::string& channel, const uint8_t* data, size_t size, int64_t run_id) {
-  const int64_t theirs = RunIdOf(data, size);
-  return run_id != 0 && theirs != run_id && (theirs != 0 || channels::IsLoopChannel(channel));
+  return !channels::OfRun(run_id, RunIdOf(data, size), channels::IsLoopChannel(channel));
 }
 
 }  // namespace

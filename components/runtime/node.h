@@ -94,10 +94,9 @@ class Node {
   int64_t undecodable() const { return undecodable_; }
   // This run's identity, for the messages the node sends (0: none).
   int64_t run_id() const { return run_id_; }
-  // A message of `run_id` is this run's: the same id, or none on this side (a node started by
-  // hand), or, except on the loop's channels, none on the message's (sent by hand).
+  // A message of `run_id` is this run's (channels::OfRun).
   bool OfThisRun(int64_t run_id, bool loop_channel) const {
-    return run_id_ == 0 || run_id == run_id_ || (run_id == 0 && !loop_channel);
+    return channels::OfRun(run_id_, run_id, loop_channel);
   }
 
   // Runs `fn` every `period_s` seconds of wall time from the executor's loop.
