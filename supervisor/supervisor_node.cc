@@ -4,9 +4,14 @@
 // takes effect at a defined tick.
 //   dmpl_supervisor --dot      prints the charts (grasp; regrasp per task.turn; Graphviz), exits
 //   dmpl_supervisor --mermaid  the same in Mermaid, as drawn in the README
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <memory>
 
+#include "components/logging/decode.h"
+#include "components/runtime/journal.h"
 #include "components/runtime/lcm_eigen.h"
 #include "components/hand/hand_model.h"
 #include "components/kinematics/hand_kinematics.h"
@@ -38,9 +43,57 @@ class SupervisorNode : public Node {
     Subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
     Subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
     AddTimer(0.2, [this] { CheckHeartbeats(); });
+    if (!ctx.run.journal_dir.empty()) {
+      const std::string path = ctx.run.journal_dir + "/" + name() + ".journal";
+      replayed_ = Replay(path);
+      journal_ = std::make_unique<JournalWriter>(path);
+    }
+  }
+
+  void OnStart() override {
+    if (replayed_ == 0) return;
+    // Taken up after a restart: answer the report the loop waits on (if the last answer was
+    // lost with the old process) with the same task, and say where the charts are.
+    log().warn("restarted: took up the charts from {} journaled inputs, at tick {} ({})",
+               replayed_, last_seq_, core_.last_action());
+    PublishLoop(channels::kTask, last_task_);
+    PublishStatus(last_seq_, last_utime_);
   }
 
  private:
+  // The journal's entries: a report answered, or a change of the processes' liveness.
+  static constexpr uint8_t kReportEntry = 'R';
+  static constexpr uint8_t kLivenessEntry = 'L';
+
+  // Steps the charts through the journal of a supervisor that died; how many inputs it took.
+  int Replay(const std::string& path) {
+    int cut_short = 0;
+    const std::vector<JournalEntry> entries = ReadJournal(path, &cut_short);
+    if (cut_short) log().warn("{}: its last entry was cut short (a kill mid-write): left out", path);
+    for (const JournalEntry& e : entries) {
+      if (e.tag == kReportEntry) {
+        controller_status_t m;
+        if (!DecodeMessage(e.bytes.data(), static_cast<uint32_t>(e.bytes.size()), &m)) {
+          throw std::runtime_error(path + ": a journaled report does not decode");
+        }
+        Answer(m, false);
+      } else if (e.tag == kLivenessEntry && !e.bytes.empty()) {
+        core_.SetProcessLost(e.bytes[0] != 0, std::string(e.bytes.begin() + 1, e.bytes.end()));
+      } else {
+        throw std::runtime_error(path + ": an entry of unknown kind " + std::to_string(e.tag));
+      }
+    }
+    return static_cast<int>(entries.size());
+  }
+
+  void Journal(uint8_t tag, const void* data, size_t size) {
+    if (journal_ && !journal_->Append(tag, data, size)) {
+      log().critical("cannot write the journal '{}': {}; a restart could not take up the "
+                     "charts", journal_->path(), std::strerror(errno));
+      journal_.reset();
+    }
+  }
+
   void OnHeartbeat(const lcm::ReceiveBuffer*, const std::string&, const heartbeat_t* hb) {
     last_beat_[hb->process] = MonotonicSeconds();
   }
@@ -56,12 +109,15 @@ class SupervisorNode : public Node {
     const bool lost = !silent.empty();
     if (lost != core_.holding() && core_.grasp_state() != GraspState::ObjectHeld) {
       if (lost) log().error("no heartbeat from {}: holding the grasp", silent);
-      core_.SetProcessLost(lost, lost ? silent : std::string("all"));
+      const std::string who = lost ? silent : std::string("all");
+      core_.SetProcessLost(lost, who);
+      const std::string entry = std::string(1, lost ? '\1' : '\0') + who;
+      Journal(kLivenessEntry, entry.data(), entry.size());
       PublishStatus(last_seq_, last_utime_);
     }
   }
 
-  void OnReport(const lcm::ReceiveBuffer*, const std::string&, const controller_status_t* m) {
+  void OnReport(const lcm::ReceiveBuffer* rbuf, const std::string&, const controller_status_t* m) {
     if (answered_any_ && m->seq <= last_seq_) return;  // a copy of a report already answered
     std::string why = OutOfRange(*m);
     if (answered_any_ && m->seq > last_seq_ + kMaxTicksAhead) {
@@ -74,6 +130,15 @@ class SupervisorNode : public Node {
       }
       return;
     }
+    Answer(*m, true);
+    // After the answer: a supervisor killed between the two answers the report again.
+    Journal(kReportEntry, rbuf->data, rbuf->data_size);
+  }
+
+  // Steps the charts with a report and answers it with a task; `live`: publishes and logs (a
+  // replay of the journal only rebuilds the state and the last task).
+  void Answer(const controller_status_t& report, bool live) {
+    const controller_status_t* m = &report;
     answered_any_ = true;
     ControllerView view;
     view.seq = m->seq;
@@ -94,11 +159,13 @@ class SupervisorNode : public Node {
     const size_t logged = core_.transitions().size();
     const int goals_before = core_.goals().reached();
     const SupervisorOutput& out = core_.Step(view);
-    for (size_t i = logged; i < core_.transitions().size(); ++i) {
-      log().info("t = {:.3f} s: {}", view.time_s, core_.transitions()[i]);
-    }
-    if (core_.goals().reached() != goals_before) {
-      log().info("t = {:.3f} s: {}", view.time_s, core_.note());
+    if (live) {
+      for (size_t i = logged; i < core_.transitions().size(); ++i) {
+        log().info("t = {:.3f} s: {}", view.time_s, core_.transitions()[i]);
+      }
+      if (core_.goals().reached() != goals_before) {
+        log().info("t = {:.3f} s: {}", view.time_s, core_.note());
+      }
     }
     // A request to the simulator rides with the task (task_cmd_t.sim_command): the simulator
     // applies it with the joint command planned from this task, before it steps from tick
@@ -108,11 +175,17 @@ class SupervisorNode : public Node {
     if (out.sim != SimRequest::kNone) {
       sim_command = out.sim == SimRequest::kRelease ? sim_control_t::RELEASE : sim_control_t::STOP;
       reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
-      log().info("t = {:.3f} s: asks the simulator to {} ({})", view.time_s,
-                 sim_command == sim_control_t::RELEASE ? "release the object" : "stop", reason);
+      if (live) {
+        log().info("t = {:.3f} s: asks the simulator to {} ({})", view.time_s,
+                   sim_command == sim_control_t::RELEASE ? "release the object" : "stop",
+                   reason);
+      }
     }
-    PublishTask(out.task, m->seq, m->utime, sim_command, reason);
-    if (out.changed || m->seq % params_.status_every_ticks == 0) PublishStatus(m->seq, m->utime);
+    last_task_ = MakeTask(out.task, m->seq, m->utime, sim_command, reason);
+    if (live) {
+      PublishLoop(channels::kTask, last_task_);
+      if (out.changed || m->seq % params_.status_every_ticks == 0) PublishStatus(m->seq, m->utime);
+    }
     last_seq_ = m->seq;
     last_utime_ = m->utime;
     set_tick(m->seq);
@@ -147,8 +220,8 @@ class SupervisorNode : public Node {
     return -1;
   }
 
-  void PublishTask(const TaskInput& t, int64_t seq, int64_t utime, int8_t sim_command,
-                   const std::string& reason) {
+  task_cmd_t MakeTask(const TaskInput& t, int64_t seq, int64_t utime, int8_t sim_command,
+                      const std::string& reason) const {
     task_cmd_t m{};
     m.run_id = run_id();
     m.sim_command = sim_command;
@@ -173,7 +246,7 @@ class SupervisorNode : public Node {
       m.fingers.push_back(p);
     }
     m.num_fingers = static_cast<int8_t>(m.fingers.size());
-    PublishLoop(channels::kTask, m);
+    return m;
   }
 
   void PublishStatus(int64_t seq, int64_t utime) {
@@ -203,7 +276,7 @@ class SupervisorNode : public Node {
     s.has_orientation_goal = !goals.empty();
     ToArray(goals.empty() ? Eigen::Quaterniond::Identity() : goals.current(), s.orientation_goal);
     s.goal_error_rad = goals.error_rad();
-    lcm(channels::kSupervisorStatus).publish(channels::kSupervisorStatus, &s);
+    PublishRecorded(channels::kSupervisorStatus, s);
   }
 
   SupervisorParams params_;
@@ -215,6 +288,9 @@ class SupervisorNode : public Node {
   bool answered_any_ = false;
   int64_t rejected_ = 0;
   int64_t last_utime_ = 0;
+  task_cmd_t last_task_{};
+  std::unique_ptr<JournalWriter> journal_;  // run.journal_dir: the charts' inputs
+  int replayed_ = 0;                        // journal entries taken up at the start
 };
 
 struct Loaded {

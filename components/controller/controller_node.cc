@@ -222,7 +222,7 @@ class ControllerNode : public Node {
       }
     }
     status_.num_events = static_cast<int16_t>(status_.events.size());
-    lcm(channels::kControllerStatus).publish(channels::kControllerStatus, &status_);
+    PublishRecorded(channels::kControllerStatus, status_);
     // The report: this status with every event since the last one (none may be lost between).
     report_events_.insert(report_events_.end(), status_.events.begin(), status_.events.end());
     if (tick % report_period_ == 0) {

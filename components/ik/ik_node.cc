@@ -123,7 +123,7 @@ class IkNode : public Node {
       changed = changed || status_.fingers[f].status != last_status_[f];
       last_status_[f] = status_.fingers[f].status;
     }
-    if (changed || tick % 10 == 0) lcm(channels::kIkStatus).publish(channels::kIkStatus, &status_);
+    if (changed || tick % 10 == 0) PublishRecorded(channels::kIkStatus, status_);
     PublishLoop(channels::kJointCmd, cmd_);
     set_tick(tick);
   }

@@ -27,6 +27,10 @@ inline constexpr char kSimStatus[] = "DMPL_SIM_STATUS";
 // own, so that a viewer costs the loop a few copies per frame, not one per tick.
 inline constexpr char kViewTruth[] = "DMPL_VIEW_TRUTH";
 inline constexpr char kViewSensed[] = "DMPL_VIEW_SENSED";
+// The recorder confirms what it recorded (record_confirm.h): ledgers from the publishers,
+// receipts back, on a bus of their own so that no other process wakes for them.
+inline constexpr char kRecordLedger[] = "DMPL_RECORD_LEDGER";
+inline constexpr char kRecordReceipt[] = "DMPL_RECORD_RECEIPT";
 // Process management.
 inline constexpr char kHeartbeat[] = "DMPL_HEARTBEAT";
 inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
@@ -39,9 +43,10 @@ inline constexpr char kProcessStatus[] = "DMPL_PROCESS_STATUS";
 // The monitor bus carries what only people and tools read (lcm-spy, the recorder), so that no
 // process of the loop wakes for it. The supervisor's status (100 Hz) is on the management bus:
 // the demo's progress and the live viewer read it without joining the monitor bus's 2 kHz.
-inline constexpr int kNumBuses = 9;
+inline constexpr int kNumBuses = 10;
 inline constexpr const char* kBusNames[kNumBuses] = {
-    "management", "truth", "sensed", "targets", "joints", "task", "status", "monitor", "view"};
+    "management", "truth", "sensed", "targets", "joints", "task",
+    "status",     "monitor", "view", "record"};
 struct ChannelBus {
   const char* channel;
   int bus;
@@ -62,6 +67,8 @@ inline constexpr ChannelBus kChannelBuses[] = {
     {kSupervisorStatus, 0},
     {kViewTruth, 8},
     {kViewSensed, 8},
+    {kRecordLedger, 9},
+    {kRecordReceipt, 9},
 };
 
 // The loop's channels: in a run with an identity (run.run_id), a message on one of them without

@@ -17,6 +17,8 @@
 #include "components/logging/log_columns.h"
 #include "components/logging/record_policy.h"
 #include "components/runtime/lcm_bus.h"
+#include "components/runtime/record_confirm.h"
+#include "dmpl/record_ledger_t.hpp"
 
 namespace dmpl {
 
@@ -45,12 +47,19 @@ class LogRecorder {
   int64_t failed() const { return failed_; }
   int64_t copies() const { return copies_; }
   int64_t foreign() const { return foreign_; }
+  // Messages asked for again (receipts that were not complete).
+  int64_t asked_again() const { return asked_again_; }
 
  private:
   void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  // True when the message's bytes are those of one of the last on its channel: a copy sent
-  // again after a loss (resend.h), which the log keeps once.
-  bool IsCopy(const std::string& channel, const uint8_t* data, size_t size);
+  // A publisher's ledger: a receipt per channel (record_confirm.h).
+  void OnLedger(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  // True when the message's bytes are those of one of the last on its channel (messages
+  // without a seq): a copy sent again after a loss (resend.h), which the log keeps once.
+  bool IsCopy(const std::string& channel, uint64_t hash);
+  // Whether the messages a ledger entry lists and the recorder lacks are lost, not just still
+  // on their way.
+  bool SureItIsLost(const std::string& publisher, const LedgerEntry& entry, bool stopping);
   struct RecentHashes {
     std::deque<uint64_t> order;
     std::unordered_set<uint64_t> set;
@@ -60,6 +69,10 @@ class LogRecorder {
   RecordFilter filter_;
   std::unique_ptr<LogColumns> columns_;
   std::vector<std::pair<lcm::LCM*, lcm::Subscription*>> subs_;
+  LcmBus* bus_;
+  ReceivedRecord received_record_;
+  std::unordered_map<std::string, LedgerEntry> final_ledgers_;  // publisher/channel: the last
+  int64_t asked_again_ = 0;
   int64_t received_ = 0;
   int64_t written_ = 0;
   int64_t failed_ = 0;

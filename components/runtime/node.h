@@ -2,6 +2,8 @@
 // The component runtime: a Node is the thin LCM side of a component (subscribe, call the core,
 // publish). An Executor runs one or more nodes on one LCM instance: one node per process in the
 // multi-process mode, all of them on memq:// in the one-process mode.
+#include <poll.h>
+
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -19,7 +21,9 @@
 #include "components/runtime/clock.h"
 #include "components/runtime/config.h"
 #include "components/runtime/lcm_bus.h"
+#include "components/runtime/record_confirm.h"
 #include "components/runtime/resend.h"
+#include "dmpl/record_receipt_t.hpp"
 
 namespace dmpl {
 
@@ -75,6 +79,7 @@ class Node {
     const bool loop = channels::IsLoopChannel(channel);
     decoding->fn = [this, method, handler, loop](const lcm::ReceiveBuffer* rbuf,
                                                  const std::string& ch) {
+      if (stopping_ && ch != channels::kRecordReceipt) return;  // awaiting receipts only
       Msg msg;
       if (!DecodeMessage(rbuf->data, rbuf->data_size, &msg)) {
         CountUndecodable(ch, Msg::getTypeName(), rbuf->data_size);
@@ -99,8 +104,9 @@ class Node {
     return channels::OfRun(run_id_, run_id, loop_channel);
   }
 
-  // Runs `fn` every `period_s` seconds of wall time from the executor's loop.
-  void AddTimer(double period_s, std::function<void()> fn);
+  // Runs `fn` every `period_s` seconds of wall time from the executor's loop (and, when
+  // `while_stopping`, while the node waits for the recorder's receipts at its stop).
+  void AddTimer(double period_s, std::function<void()> fn, bool while_stopping = false);
 
   // Lockstep over a lossy network: the node's last `depth` messages published with PublishLoop
   // are sent again while the loop stalls (resend.h; run.resend_after_s; off in real time).
@@ -108,13 +114,33 @@ class Node {
   // Publishes a message of the loop (kept for resending when KeepForResend was called).
   template <typename Msg>
   void PublishLoop(const std::string& channel, const Msg& msg) {
-    if (resender_) {
-      resender_->Publish(lcm(channel), channel, msg, MonotonicSeconds());
-    } else {
+    if (!resender_ && !record_) {
       lcm(channel).publish(channel, &msg);
+      return;
+    }
+    std::vector<uint8_t> bytes = Encode(msg);
+    if (record_) record_->Add(channel, msg.seq, bytes);
+    if (resender_) {
+      resender_->PublishBytes(lcm(channel), channel, std::move(bytes), MonotonicSeconds());
+    } else {
+      lcm(channel).publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
     }
   }
   int64_t resent() const { return resender_ ? resender_->resent() : 0; }
+  // Publishes a message for the recorder (a status): on a network bus it is kept until the
+  // recorder confirms it, and sent again if the recorder lost it (record_confirm.h).
+  template <typename Msg>
+  void PublishRecorded(const std::string& channel, const Msg& msg) {
+    if (!record_) {
+      lcm(channel).publish(channel, &msg);
+      return;
+    }
+    std::vector<uint8_t> bytes = Encode(msg);
+    lcm(channel).publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+    record_->Add(channel, msg.seq, std::move(bytes));
+  }
+  // Messages sent again because the recorder lost them.
+  int64_t sent_again_for_recorder() const { return record_ ? record_->sent_again() : 0; }
 
   // Ends the executor's loop; the process exits with the largest code any node asked for.
   void RequestExit(int exit_code);
@@ -132,7 +158,14 @@ class Node {
     double period_s;
     double next_s;
     std::function<void()> fn;
+    bool while_stopping;
   };
+  // The recorder's side of what this node published (record_confirm.h).
+  void ConfirmWithRecorder();
+  void PublishLedger(bool final);
+  void OnReceipt(const lcm::ReceiveBuffer*, const std::string&, const record_receipt_t* m);
+  // At the stop: whether to wait for the recorder's receipts.
+  bool AwaitsReceipts() const;
 
   std::string name_;
   LcmBus* bus_;
@@ -142,6 +175,8 @@ class Node {
 
   std::vector<Timer> timers_;
   std::unique_ptr<Resender> resender_;
+  std::unique_ptr<PublishedRecord> record_;
+  bool stopping_ = false;
   std::vector<std::unique_ptr<Decoding>> subscriptions_;
   int64_t undecodable_ = 0;
   int64_t foreign_ = 0;
@@ -164,7 +199,13 @@ class Executor {
 
  private:
   void PublishHeartbeats(int8_t state);
+  // Handles traffic and the timers due once, waiting at most `max_wait_s` for traffic.
+  void SpinOnce(double max_wait_s, bool stopping);
+  // At the stop: the nodes wait (at most a second) until the recorder confirms what they sent.
+  void AwaitReceipts();
   LcmBus* bus_;
+  std::vector<lcm::LCM*> listened_;
+  std::vector<pollfd> fds_;
   double heartbeat_period_s_;
   std::vector<Node*> nodes_;
 };

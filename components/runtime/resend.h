@@ -14,6 +14,14 @@
 
 namespace dmpl {
 
+// A message's LCM encoding.
+template <typename Msg>
+std::vector<uint8_t> Encode(const Msg& msg) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
 class Resender {
  public:
   // depth: how many of the last messages are kept (all channels together); stall_s <= 0: never
@@ -23,10 +31,11 @@ class Resender {
   // Encodes `msg` once, publishes it and keeps the bytes; `now` is the monotonic clock.
   template <typename Msg>
   void Publish(lcm::LCM& lcm, const std::string& channel, const Msg& msg, double now) {
-    std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
-    msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-    PublishBytes(lcm, channel, std::move(bytes), now);
+    PublishBytes(lcm, channel, Encode(msg), now);
   }
+  // The same for bytes already encoded.
+  void PublishBytes(lcm::LCM& lcm, const std::string& channel, std::vector<uint8_t> bytes,
+                    double now);
 
   // From a timer: sends every kept message again (oldest first) when the node has stalled.
   // Returns how many it sent.
@@ -41,8 +50,6 @@ class Resender {
     std::string channel;
     std::vector<uint8_t> bytes;
   };
-  void PublishBytes(lcm::LCM& lcm, const std::string& channel, std::vector<uint8_t> bytes,
-                    double now);
 
   size_t depth_;
   double stall_s_;

@@ -152,7 +152,7 @@ class SimNode : public Node, private SimLoop {
     s.late_commands = late_;
     s.step_us = step_us_;
     s.last_fault = last_fault_;
-    lcm(channels::kSimStatus).publish(channels::kSimStatus, &s);
+    PublishRecorded(channels::kSimStatus, s);
   }
 
   double TickSeconds() const { return sim_params_.physics.time_step * sim_params_.steps_per_tick; }

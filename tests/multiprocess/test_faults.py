@@ -180,15 +180,11 @@ class FaultsTest(unittest.TestCase):
         forger.join()
         self.assertEqual(result["status"], "success", result.get("problems"))
         ignore = {"wall_time_s", "realtime_factor", "warnings"}
-        # The force statistics read the per-tick controller status, a monitor channel nothing
-        # sends again: under the flood the recorder may miss a sample of it (CI saw the RMS
-        # error move in its 9th digit). The loop's own results must be equal exactly.
-        monitored = {"grip_force_rms_error_n", "grip_force_total_n"}
+        # Equal exactly, the statistics read from the per-tick controller status included: a
+        # status the recorder missed under the flood is asked for again (record_confirm.h).
         differ = {k: (clean.get(k), result.get(k)) for k in set(clean) | set(result)
-                  if k not in ignore | monitored and clean.get(k) != result.get(k)}
+                  if k not in ignore and clean.get(k) != result.get(k)}
         self.assertEqual(differ, {})
-        for k in monitored:
-            self.assertAlmostEqual(clean[k], result[k], delta=1e-3 * max(abs(clean[k]), 1e-3), msg=k)
         sim_log = (self.tmp / "attacked" / "dmpl_sim.log").read_text()
         self.assertIn("by a SIM_CONTROL ('a stray pause')", sim_log)
         self.assertIn("resumed at", sim_log)

@@ -128,12 +128,13 @@ int Record(dmpl::LcmBus* bus, const CommandLine& cl) {
   const std::string file = cl.options.log_path.empty() ? "(no log)" : cl.options.log_path;
   std::fprintf(stderr,
                "dmpl_record: %lld of %lld messages written to %s (policy %s)%s; copies sent "
-               "again %lld, of other runs %lld (not recorded)\n",
+               "again %lld, of other runs %lld (not recorded); asked again %lld\n",
                static_cast<long long>(recorder.written()),
                static_cast<long long>(recorder.received()), file.c_str(), cl.policy.c_str(),
                recorder.failed() ? " (SOME WRITES FAILED)" : "",
                static_cast<long long>(recorder.copies()),
-               static_cast<long long>(recorder.foreign()));
+               static_cast<long long>(recorder.foreign()),
+               static_cast<long long>(recorder.asked_again()));
   return recorder.failed() ? 1 : 0;
 }
 

@@ -23,11 +23,11 @@ from .paths import BUILD, OUT, ROOT
 
 
 # The processes --respawn restarts: they rejoin the loop where they left it (the others send
-# them their last messages) and need nothing else from before: the noise injector, the IK, the
-# controller (its contacts from its first reading, its task from the supervisor) and the joint
-# player (a trajectory in time). The simulator and the supervisor hold the run's state: their
-# death ends the run.
-REJOINING = {"dmpl_noise", "dmpl_ik", "dmpl_controller", "dmpl_joint_player"}
+# them their last messages): the noise injector, the IK, the controller (its contacts from its
+# first reading, its task from the supervisor), the joint player (a trajectory in time) and the
+# supervisor (its charts from its journal, run.journal_dir). The simulator holds the physics:
+# its death ends the run.
+REJOINING = {"dmpl_noise", "dmpl_ik", "dmpl_controller", "dmpl_joint_player", "dmpl_supervisor"}
 
 
 def loop_layout():
@@ -68,6 +68,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     policy = record_policy(config, record)
     name = config["experiment"]["name"]
     out = Path(out_dir) if out_dir else OUT / "runs" / f"{name}-{time.strftime('%Y%m%d-%H%M%S')}"
+    if respawn:
+        run["journal_dir"] = str(out.resolve())  # a restarted supervisor takes up from there
     resolved, sensing = out / "config.yaml", out / "config.sensing.yaml"
     url = with_receive_buffer(resolve_lcm_url(lcm_url or config.get("run", {}).get("lcm_url")))
     if not one_process:
@@ -83,7 +85,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     variables = {"root": str(ROOT), "build": str(BUILD), "run_dir": str(out), "config": str(resolved),
                  "sensing_config": str(sensing)}
     log_path, columns_dir = out / "run.lcmlog", out / "columns"
-    for stale in (log_path, out / "summary.json"):
+    for stale in (log_path, out / "summary.json", *out.glob("*.journal")):
         if stale.exists():
             stale.unlink()
     shutil.rmtree(columns_dir, ignore_errors=True)
