@@ -62,14 +62,30 @@ class RespawnTest(unittest.TestCase):
 
     def test_lockstep_supervisor_takes_up_its_charts(self):
         # It holds the run's charts: the restarted one replays its journal (run.journal_dir)
-        # and answers where the old one stopped.
-        self.kill_mid_gait("dmpl_supervisor")
+        # and answers where the old one stopped, as the old one would have: the run is the run
+        # without the kill.
+        killed = self.kill_mid_gait("dmpl_supervisor")
+        out = Path(tempfile.mkdtemp(prefix="dmpl_respawn_clean_"))
+        self.addCleanup(subprocess.run, ["rm", "-rf", str(out)])
+        subprocess.run([sys.executable, "-m", "dmpl_tools.run", GAIT, "--out", str(out), "--quiet",
+                        "--record", "none", "--set", "task.angle=3.0"], cwd=mp.ROOT, check=True,
+                       capture_output=True)
+        clean = json.loads((out / "summary.json").read_text())
+        wall_clock = {"wall_time_s", "realtime_factor", "restarts", "warnings"}
+        differ = {k: (clean.get(k), killed.get(k)) for k in set(clean) | set(killed)
+                  if k not in wall_clock and clean.get(k) != killed.get(k)}
+        self.assertEqual(differ, {})
 
     def test_real_time_supervisor_takes_up_its_charts(self):
         self.kill_mid_gait("dmpl_supervisor", "run.lockstep=false")
 
     def test_real_time_ik_rejoins(self):
         self.kill_mid_gait("dmpl_ik", "run.lockstep=false")
+
+    def test_real_time_controller_rejoins(self):
+        # It starts with no force integrators and takes its contacts from its first reading
+        # while the hand holds the last command.
+        self.kill_mid_gait("dmpl_controller", "run.lockstep=false")
 
     def test_real_time_noise_rejoins(self):
         self.kill_mid_gait("dmpl_noise", "run.lockstep=false")
