@@ -35,11 +35,12 @@ constexpr RegraspState kExploreState[RegraspChart::kFingers] = {
 }  // namespace
 
 RegraspChart::RegraspChart(RegraspActions* actions, std::vector<std::string> fingers,
-                           std::vector<std::string> order, Turn turn)
+                           std::vector<std::string> order, Turn turn, bool grip_turns)
     : actions_(actions),
       fingers_(std::move(fingers)),
       order_(std::move(order)),
       turn_(turn),
+      grip_turns_(grip_turns),
       chart_(Build()) {
   DMPL_DEMAND(actions_ != nullptr);
   DMPL_DEMAND(fingers_.size() == kFingers);
@@ -89,6 +90,7 @@ sc::Action RegraspChart::ExploreAction(int number, int k) {
                    (turn_ == Turn::kAuto && actions_->CanTurnWithout(order_[k]));
     last_action_ = overlapping_ ? both : explore;
     phase_ = Phase::kExploring;
+    grip_turning_ = false;
     actions_->Explore(order_[k]);
     if (overlapping_) actions_->Rotate(Grippers(k));
   });
@@ -100,18 +102,28 @@ sc::Action RegraspChart::RotateAction(int number, int k) {
   return sc::Action(name, [this, grippers, name] {
     last_action_ = name;
     phase_ = Phase::kRotating;
+    grip_turning_ = false;
     actions_->Rotate(grippers);
   });
 }
 
 sc::Action RegraspChart::GripAction(int number, int k) {
-  const std::string name = "A" + std::to_string(number) + " " + order_[k] + " grip";
-  return sc::Action(name, [this, k, name] {
-    last_action_ = name;
-    phase_ = Phase::kGripping;
+  const std::string grip = "A" + std::to_string(number) + " " + order_[k] + " grip";
+  // After an explore that did not turn the object, all four turn it next (A1): with grip_turns
+  // at once, while the explorer grips.
+  const bool four = turn_ == Turn::kFourFingers, autom = turn_ == Turn::kAuto;
+  const std::string both = grip + " + A1 " + Names(fingers_) + " rotate";
+  const std::string name = !grip_turns_ || !(four || autom) ? grip
+                           : four                          ? both
+                                                           : grip + " (+ A1 rotate)";
+  return sc::Action(name, [this, k, grip, both, four, autom] {
+    grip_turning_ = grip_turns_ && (four || (autom && !overlapping_));
+    last_action_ = grip_turning_ ? both : grip;
+    phase_ = grip_turning_ ? Phase::kRotating : Phase::kGripping;
     ++regrasps_;
     next_ = (k + 1) % kFingers;
     actions_->Grip(order_[k]);
+    if (grip_turning_) actions_->Rotate(fingers_);
   });
 }
 
@@ -125,6 +137,7 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
   const sc::Action a1(all_rotate, [this, all_rotate] {
     last_action_ = all_rotate;
     phase_ = Phase::kRotating;
+    grip_turning_ = false;
     actions_->Rotate(fingers_);
   });
   const sc::Action finish("finish", [this] {
@@ -165,7 +178,12 @@ sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
       rows.push_back({S::S1, E::RotateDone, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
     }
     if (!four) {
-      rows.push_back({S::S1, E::GripStable, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+      // Not while a grip turns the object with all four (grip_turns): that ends with RotateDone.
+      const sc::Guard next = NextIs(k);
+      const sc::Guard after_grip(next.name, [this, next] {
+        return !(phase_ == Phase::kRotating && grip_turning_) && next.fn();
+      });
+      rows.push_back({S::S1, E::GripStable, after_grip, ExploreAction(4 + 3 * k, k), sk});
     }
     if (turn_ == Turn::kThreeFingers) {
       rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});

@@ -13,6 +13,11 @@
 // once), so the object never waits for an explorer; the explorer grips again when both are done.
 // kAuto decides at each explore (RegraspActions::CanTurnWithout): continuous when the three
 // grippers can turn the object about the step's axis without the explorer, else four.
+//
+// With `grip_turns` the four-finger turn (A1) does not wait for the grip: the finger that just
+// explored grips while all four turn (A3/A6/A9/A12 and A1 at once), and the step counts done when
+// the object has turned and the grasp is stable (RegraspActions' caller decides both). The grip
+// and the turn then cost the longer of the two instead of their sum.
 #include <string>
 #include <vector>
 
@@ -57,7 +62,8 @@ class RegraspChart {
   // `fingers`: the hand's finger names, in the hand's order; `order`: the exploring order, each
   // finger once (S2..S5 = order[0..3]).
   RegraspChart(RegraspActions* actions, std::vector<std::string> fingers,
-               std::vector<std::string> order, Turn turn = Turn::kThreeFingers);
+               std::vector<std::string> order, Turn turn = Turn::kThreeFingers,
+               bool grip_turns = false);
 
   bool Process(RegraspEvent e) { return chart_.Process(e); }
   bool is(RegraspState s) const { return chart_.is(s); }
@@ -72,6 +78,8 @@ class RegraspChart {
   // The step under way turns the object while the explorer slides (kContinuous, or kAuto's
   // choice at the last explore).
   bool overlapping() const { return overlapping_; }
+  // The turn under way began with a grip (grip_turns): it is done when the grasp is stable too.
+  bool gripping_while_turning() const { return phase_ == Phase::kRotating && grip_turning_; }
   Turn turn() const { return turn_; }
   std::string ToDot() const { return chart_.ToDot(); }
   std::string ToMermaid() const { return chart_.ToMermaid(); }
@@ -96,6 +104,8 @@ class RegraspChart {
   int next_ = 0;
   int regrasps_ = 0;
   bool overlapping_ = false;
+  bool grip_turns_ = false;
+  bool grip_turning_ = false;  // the step under way began with a grip
   Phase phase_ = Phase::kGripping;
   std::string last_action_;
   sc::StateMachine<RegraspState, RegraspEvent> chart_;

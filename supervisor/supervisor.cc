@@ -60,7 +60,8 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
       home_(fingers_.size(), Eigen::Vector3d::Zero()),
       replace_(fingers_.size(), Replace::kNone),
       replace_since_(fingers_.size(), 0.0),
-      regrasp_(this, fingers_, tasks_.gait.order, task_params_.turn.mode),
+      regrasp_(this, fingers_, tasks_.gait.order, task_params_.turn.mode,
+               task_params_.grip_while_turning),
       grasp_(BuildGraspChart()) {
   DMPL_DEMAND(fingers_.size() == RegraspChart::kFingers);  // the node's Load says it clearly
   out_.task.fingers.resize(fingers_.size());

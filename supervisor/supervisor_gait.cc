@@ -364,9 +364,15 @@ void Supervisor::TickGait() {
       regrasp_.Process(RegraspEvent::ExploreReady);
     }
   } else if (regrasp_.rotating()) {
-    if (StepDone(in_phase)) {
+    // A turn that began with a grip waits for the grasp to be stable too (as a grip would).
+    const bool gripped = !regrasp_.gripping_while_turning() ||
+                         (view_.grasp_stable && in_phase > 0.05) || in_phase > g.grip_timeout_s;
+    if (StepDone(in_phase) && gripped) {
       if (!(motion_done_event_ || view_.motion_done)) {
         Note("step settled " + std::to_string(view_.tracking_error_rad) + " rad short");
+      }
+      if (!view_.grasp_stable && regrasp_.gripping_while_turning()) {
+        Note("no stable grasp within the grip timeout; going on");
       }
       regrasp_.Process(RegraspEvent::RotateDone);
     } else if (in_phase > g.rotate_timeout_s) {

@@ -2,6 +2,8 @@
 // statecharts instead.
 #include <cstring>
 #include <iostream>
+#include <utility>
+#include <vector>
 
 #include "components/hand/hand_params.h"
 #include "supervisor/supervisor.h"
@@ -17,17 +19,23 @@ int main(int argc, char** argv) {
     std::vector<std::string> fingers;  // the default hand's
     for (const dmpl::FingerParams& f : dmpl::HandParams{}.fingers) fingers.push_back(f.name);
     using dmpl::TurnMode;
-    for (TurnMode turn : {TurnMode::kThreeFingers, TurnMode::kFourFingers, TurnMode::kContinuous,
-                          TurnMode::kAuto}) {
+    // Last, auto with task.grip_while_turning (what the gait configs use).
+    const std::vector<std::pair<TurnMode, bool>> charts = {
+        {TurnMode::kThreeFingers, false}, {TurnMode::kFourFingers, false},
+        {TurnMode::kContinuous, false},   {TurnMode::kAuto, false},
+        {TurnMode::kAuto, true}};
+    for (const auto& [turn, grip_while_turning] : charts) {
       dmpl::TaskParams task;
       task.file = dmpl::ResolveProjectPath("configs/tasks/fig10_gait.yaml");
       task.turn.mode = turn;
+      task.grip_while_turning = grip_while_turning;
       dmpl::Supervisor s(fingers, dmpl::LoadTaskFile(task.file, fingers), task,
                          dmpl::SupervisorParams{});
       if (turn == TurnMode::kThreeFingers) {
         std::cout << (dot ? s.GraspChartDot() : s.GraspChartMermaid()) << "\n";
       }
-      std::cout << (dot ? "// " : "%% ") << "task.turn: " << ToString(turn) << "\n"
+      std::cout << (dot ? "// " : "%% ") << "task.turn: " << ToString(turn)
+                << (grip_while_turning ? ", task.grip_while_turning: true" : "") << "\n"
                 << (dot ? s.RegraspChartDot() : s.RegraspChartMermaid());
     }
     return 0;

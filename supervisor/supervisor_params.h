@@ -33,6 +33,9 @@ struct TaskParams {
   // rad/s of a turn made while an explorer slides (turn: continuous, auto); 0: angular_speed.
   // Such a turn only has to end with the explore, and three fingers turn more gently than four.
   double overlap_angular_speed = 0.0;
+  // turn: four or auto: the finger that explored grips while all four turn the object (the step
+  // is done when the object has turned and the grasp is stable), instead of gripping first.
+  bool grip_while_turning = false;
   double explore_force_n = 0.1;         // the exploration finger's force (the paper's 0.1 N)
   double explore_travel = 1.0;          // the explorer goes back (steps it rides) / 2 * step * this
   // A gait toward goal orientations turns about a new axis at every goal, so a finger's steps no
@@ -57,6 +60,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(turn));
     a->Visit(DMPL_NVP(angular_speed), Above(0));
     a->Visit(DMPL_NVP(overlap_angular_speed), AtLeast(0));
+    a->Visit(DMPL_NVP(grip_while_turning));
     a->Visit(DMPL_NVP(explore_force_n), AtLeast(0));
     a->Visit(DMPL_NVP(explore_travel), AtLeast(0));
     a->Visit(DMPL_NVP(max_finger_deviation_rad), InRange(0, 3.141592653589793));

@@ -128,6 +128,47 @@ TEST(RegraspChartTest, FourFingerTurnExploresGripsThenTurnsWithAllFourThroughS1)
   EXPECT_TRUE(again.is(S::S2));
 }
 
+TEST(RegraspChartTest, GripWhileTurningStartsTheFourFingerTurnWithTheGrip) {
+  Recorder r;
+  RegraspChart chart(&r, kHand, {"R", "M", "F", "T"}, RegraspChart::Turn::kFourFingers,
+                     /*grip_turns=*/true);
+  using E = RegraspEvent;
+  using S = RegraspState;
+  Play(&chart, {
+      {E::Begin, S::S2, "A4 R explore"},
+      {E::ExploreReady, S::S1, "A3 R grip + A1 TFMR rotate"},
+      {E::RotateDone, S::S3, "A7 M explore"},
+      {E::ExploreReady, S::S1, "A6 M grip + A1 TFMR rotate"},
+      {E::RotateDone, S::S4, "A10 F explore"},
+      {E::ExploreReady, S::S1, "A9 F grip + A1 TFMR rotate"},
+      {E::RotateDone, S::S5, "A13 T explore"},
+      {E::ExploreReady, S::S1, "A12 T grip + A1 TFMR rotate"},
+      {E::RotateDone, S::S1, "finish"},
+  });
+  EXPECT_EQ(chart.regrasps(), 4);
+  EXPECT_EQ(r.turned, 4);
+  EXPECT_EQ(r.calls[1], "grip R");  // the explorer grips, then all four turn
+  EXPECT_EQ(r.calls[2], "rotate TFMR");
+  EXPECT_FALSE(chart.gripping_while_turning());
+
+  // kAuto: only after an explore that did not turn the object; a GripStable meanwhile is out of
+  // order (the turn's end says the grip is done too).
+  Recorder a;
+  a.three_turn = {"R"};
+  a.goal = 100;
+  RegraspChart autom(&a, kHand, {"R", "M", "F", "T"}, RegraspChart::Turn::kAuto, true);
+  Play(&autom, {
+      {E::Begin, S::S2, "A4 R explore + A2 TFM rotate"}, {E::ExploreReady, S::S1, "A3 R grip"},
+      {E::GripStable, S::S3, "A7 M explore"},
+      {E::ExploreReady, S::S1, "A6 M grip + A1 TFMR rotate"},
+  });
+  EXPECT_TRUE(autom.gripping_while_turning());
+  EXPECT_FALSE(autom.Process(E::GripStable));
+  EXPECT_TRUE(autom.Process(E::RotateDone));
+  EXPECT_TRUE(autom.is(S::S4));
+  EXPECT_EQ(autom.last_action(), "A10 F explore");
+}
+
 TEST(RegraspChartTest, EveryRoleChangePassesThroughS1AndOutOfOrderEventsAreIgnored) {
   Recorder r;
   r.goal = 100;

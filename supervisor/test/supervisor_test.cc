@@ -205,6 +205,37 @@ TEST(SupervisorTest, FourFingerGaitTurnsWithAllFourAfterEachRegrasp) {
   EXPECT_EQ(d.sup.task_name(), "hold");
 }
 
+TEST(SupervisorTest, GripWhileTurningEndsTheTurnOnlyOnceTheGraspIsStable) {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.grip_while_turning = true;
+  tp.angle = 0.35;
+  Driver d("fig10_gait", tp);
+  EXPECT_EQ(RunGait(&d), (std::vector<std::string>{"A3 R grip + A1 TFMR rotate", "A7 M explore",
+                                                   "A6 M grip + A1 TFMR rotate", "A10 F explore",
+                                                   "A9 F grip + A1 TFMR rotate", "finish"}));
+  EXPECT_NEAR(d.sup.rotation_commanded(), 0.35, 1e-9);
+
+  // The object at its goal but the grasp not yet stable: the turn goes on.
+  Driver e("fig10_gait", tp);
+  e.Grasp();
+  e.Tick();
+  ASSERT_EQ(e.sup.regrasp().last_action(), "A4 R explore");
+  e.Event(EventType::kTargetReached, 3);
+  e.Tick();
+  ASSERT_EQ(e.sup.regrasp().last_action(), "A3 R grip + A1 TFMR rotate");
+  e.view.grasp_stable = false;
+  for (int i = 0; i < 10; ++i) {
+    e.Event(EventType::kMotionDone);
+    e.Tick();
+  }
+  EXPECT_TRUE(e.sup.regrasp().gripping_while_turning());
+  e.view.grasp_stable = true;
+  e.Event(EventType::kMotionDone);
+  e.Tick();
+  EXPECT_EQ(e.sup.regrasp().last_action(), "A7 M explore");
+}
+
 // Tips `radius` from the object's centre, 90 deg apart about x (T -z, F +y, M +z, R -y).
 void PlaceTips(Driver* d, double radius) {
   const Eigen::Vector3d c = d->view.object.translation();

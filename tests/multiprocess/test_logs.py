@@ -25,6 +25,7 @@ from dmpl_tools import experiment, metrics
 from dmpl_tools.bus import Buses
 from dmpl_tools.export import export
 from dmpl_tools.logdata import LogData
+from dmpl_tools.phases import kind, summarize
 from dmpl_tools.report import make_report
 from dmpl_tools.run import run_experiment, strict_json, write_summary
 from dmpl_tools.sweep import load_cases, run_sweep
@@ -253,6 +254,23 @@ class BadLogsTest(unittest.TestCase):
         for channel in ("DMPL_SUPERVISOR_STATUS", "DMPL_CONTROLLER_STATUS", "DMPL_SIM_STATUS"):
             self.assertIn(f"{channel}: ", warnings)
         self.assertIn("supervisor_state", summary)
+
+
+class PhasesTest(unittest.TestCase):
+    def test_phases_are_grouped_by_kind_and_finger_outside_recoveries(self):
+        self.assertEqual(kind("A4 R explore + A2 TFM rotate"), "explore + three turn")
+        self.assertEqual(kind("A3 R grip + A1 TFMR rotate"), "grip + four turn")
+        self.assertEqual(kind("A1 TFMR rotate"), "four-finger turn")
+        self.assertEqual(kind("A5 TFR rotate"), "three-finger turn")
+        rows = [("A4 R explore", "Tasks", 1.0, 0.3), ("A3 R grip", "Tasks", 1.3, 0.1),
+                ("A1 TFMR rotate", "Tasks", 1.4, 0.12), ("A7 M explore", "Tasks", 1.52, 0.4),
+                ("A7 M explore", "Recovering", 1.92, 2.0), ("finish", "Tasks", 4.0, 0.5)]
+        totals = summarize(rows)
+        self.assertEqual(totals[("explore", "")][0], 2)
+        self.assertAlmostEqual(totals[("explore", "")][1], 0.7)
+        self.assertAlmostEqual(totals[("explore", "M")][1], 0.4)
+        self.assertEqual(totals[("four-finger turn", "")], (1, 0.12))
+        self.assertNotIn(("finish", ""), totals)
 
 
 class SummariesTest(unittest.TestCase):
