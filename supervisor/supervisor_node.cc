@@ -55,7 +55,8 @@ class SupervisorNode : public Node {
     // Taken up after a restart: answer the report the loop waits on (if the last answer was
     // lost with the old process) with the same task, and say where the charts are.
     log().warn("restarted: took up the charts from {} journaled inputs, at tick {} ({})",
-               replayed_, last_seq_, core_.last_action());
+               replayed_, last_seq_,
+               core_.last_action().empty() ? ToString(core_.grasp_state()) : core_.last_action());
     PublishLoop(channels::kTask, last_task_);
     PublishStatus(last_seq_, last_utime_);
   }

@@ -72,7 +72,7 @@ void Node::ConfirmWithRecorder() {
   AddTimer(kLedgerPeriodS, [this] { PublishLedger(false); });
 }
 
-void Node::PublishLedger(bool final) {
+void Node::PublishLedger(bool stopping) {
   const std::vector<LedgerEntry> entries = record_->Ledger();
   if (entries.empty()) return;
   record_ledger_t m;
@@ -80,7 +80,7 @@ void Node::PublishLedger(bool final) {
   m.utime = WallMicros();
   m.seq = tick_;
   m.publisher = name_;
-  m.stopping = final;
+  m.stopping = stopping;
   m.num_channels = static_cast<int16_t>(entries.size());
   for (const LedgerEntry& e : entries) {
     m.channel.push_back(e.channel);

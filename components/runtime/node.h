@@ -139,8 +139,6 @@ class Node {
     lcm(channel).publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
     record_->Add(channel, msg.seq, std::move(bytes));
   }
-  // Messages sent again because the recorder lost them.
-  int64_t sent_again_for_recorder() const { return record_ ? record_->sent_again() : 0; }
 
   // Ends the executor's loop; the process exits with the largest code any node asked for.
   void RequestExit(int exit_code);
@@ -162,7 +160,7 @@ class Node {
   };
   // The recorder's side of what this node published (record_confirm.h).
   void ConfirmWithRecorder();
-  void PublishLedger(bool final);
+  void PublishLedger(bool stopping);
   void OnReceipt(const lcm::ReceiveBuffer*, const std::string&, const record_receipt_t* m);
   // At the stop: whether to wait for the recorder's receipts.
   bool AwaitsReceipts() const;

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 
@@ -12,7 +14,10 @@ namespace {
 class JournalTest : public ::testing::Test {
  protected:
   ~JournalTest() override { std::remove(path_.c_str()); }
-  std::string path_ = ::testing::TempDir() + "dmpl_journal_test.journal";
+  // One file per test: ctest runs the tests of this file in parallel processes.
+  std::string path_ = ::testing::TempDir() + "dmpl_journal_test_" +
+                      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                      std::to_string(getpid()) + ".journal";
 };
 
 TEST_F(JournalTest, NoFileIsNoEntries) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <string>
 
@@ -37,7 +39,10 @@ class LogRecorderTest : public ::testing::Test {
   }
 
   LcmBus bus_;
-  std::string path_ = ::testing::TempDir() + "dmpl_log_recorder_test.lcmlog";
+  // One file per test: ctest runs the tests of this file in parallel processes.
+  std::string path_ = ::testing::TempDir() + "dmpl_log_recorder_test_" +
+                      ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                      std::to_string(getpid()) + ".lcmlog";
 };
 
 TEST_F(LogRecorderTest, KeepsOneCopyOfAMessageSentAgain) {
