@@ -30,6 +30,8 @@ struct RunParams {
   bool respawn = false;            // the launcher restarts a process that dies (tools)
   int64_t run_id = 0;              // this run's identity (tools/dmpl run draws one): messages
                                    // of another run are ignored; 0: none (accepts every run's)
+  bool record_receipts = true;      // a network bus: each node keeps what it publishes until
+                                   // the recorder confirms it (record_confirm.h)
   std::string journal_dir;         // non-empty: a node that holds the run's state (the
                                    // supervisor) journals its inputs there, and a restarted one
                                    // takes up from them (tools/dmpl run --respawn sets it)
@@ -50,6 +52,7 @@ struct RunParams {
     a->Visit(DMPL_NVP(view_rate_hz), AtLeast(0));
     a->Visit(DMPL_NVP(respawn));
     a->Visit(DMPL_NVP(run_id));
+    a->Visit(DMPL_NVP(record_receipts));
     a->Visit(DMPL_NVP(journal_dir));
   }
   void Validate(const std::string& source) const { CheckBounds(*this, source, "run"); }

@@ -56,9 +56,7 @@ constexpr double kFinalLedgerPeriodS = 0.02;
 }  // namespace
 
 Node::Node(std::string name, LcmBus* bus)
-    : name_(std::move(name)), bus_(bus), logger_(MakeLogger(name_)) {
-  ConfirmWithRecorder();
-}
+    : name_(std::move(name)), bus_(bus), logger_(MakeLogger(name_)) {}
 
 void Node::AddTimer(double period_s, std::function<void()> fn, bool while_stopping) {
   timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn), while_stopping});
@@ -103,7 +101,10 @@ bool Node::AwaitsReceipts() const {
   return record_ && record_->heard_recorder() && !record_->AllConfirmed();
 }
 
-Node::Node(const NodeContext& ctx) : Node(ctx.name, ctx.bus) { run_id_ = ctx.run.run_id; }
+Node::Node(const NodeContext& ctx) : Node(ctx.name, ctx.bus) {
+  run_id_ = ctx.run.run_id;
+  if (ctx.run.record_receipts) ConfirmWithRecorder();
+}
 
 void Node::CountForeign(const std::string& channel, int64_t run_id) {
   ++foreign_;
