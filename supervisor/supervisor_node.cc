@@ -138,25 +138,24 @@ class SupervisorNode : public Node {
 
   // Steps the charts with a report and answers it with a task; `live`: publishes and logs (a
   // replay of the journal only rebuilds the state and the last task).
-  void Answer(const controller_status_t& report, bool live) {
-    const controller_status_t* m = &report;
+  void Answer(const controller_status_t& m, bool live) {
     answered_any_ = true;
     ControllerView view;
-    view.seq = m->seq;
-    view.time_s = m->utime * 1e-6;
+    view.seq = m.seq;
+    view.time_s = m.utime * 1e-6;
     view.fingers.resize(fingers_.size());
-    for (const auto& fs : m->fingers) {
+    for (const auto& fs : m.fingers) {
       const int f = Index(fs.finger);
       if (f < 0) continue;
       view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position)};
     }
-    view.object = ToPose(m->object_position, m->object_orientation);
-    for (const auto& e : m->events) {
+    view.object = ToPose(m.object_position, m.object_orientation);
+    for (const auto& e : m.events) {
       view.events.push_back({static_cast<EventType>(e.type), Index(e.finger), e.value, e.text});
     }
-    view.motion_done = m->motion_done;
-    view.grasp_stable = m->grasp_stable;
-    view.tracking_error_rad = m->tracking_error_rad;
+    view.motion_done = m.motion_done;
+    view.grasp_stable = m.grasp_stable;
+    view.tracking_error_rad = m.tracking_error_rad;
     const size_t logged = core_.transitions().size();
     const int goals_before = core_.goals().reached();
     const SupervisorOutput& out = core_.Step(view);
@@ -182,14 +181,14 @@ class SupervisorNode : public Node {
                    reason);
       }
     }
-    last_task_ = MakeTask(out.task, m->seq, m->utime, sim_command, reason);
+    last_task_ = MakeTask(out.task, m.seq, m.utime, sim_command, reason);
     if (live) {
       PublishLoop(channels::kTask, last_task_);
-      if (out.changed || m->seq % params_.status_every_ticks == 0) PublishStatus(m->seq, m->utime);
+      if (out.changed || m.seq % params_.status_every_ticks == 0) PublishStatus(m.seq, m.utime);
     }
-    last_seq_ = m->seq;
-    last_utime_ = m->utime;
-    set_tick(m->seq);
+    last_seq_ = m.seq;
+    last_utime_ = m.utime;
+    set_tick(m.seq);
   }
 
   // Why a report is not one the controller can have sent (NaN, beyond the hand's physical

@@ -114,17 +114,13 @@ class Node {
   // Publishes a message of the loop (kept for resending when KeepForResend was called).
   template <typename Msg>
   void PublishLoop(const std::string& channel, const Msg& msg) {
-    if (!resender_ && !record_) {
-      lcm(channel).publish(channel, &msg);
+    if (!resender_) {
+      PublishRecorded(channel, msg);
       return;
     }
     std::vector<uint8_t> bytes = Encode(msg);
     if (record_) record_->Add(channel, msg.seq, bytes);
-    if (resender_) {
-      resender_->PublishBytes(lcm(channel), channel, std::move(bytes), MonotonicSeconds());
-    } else {
-      lcm(channel).publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
-    }
+    resender_->PublishBytes(lcm(channel), channel, std::move(bytes), MonotonicSeconds());
   }
   int64_t resent() const { return resender_ ? resender_->resent() : 0; }
   // Publishes a message for the recorder (a status): on a network bus it is kept until the
