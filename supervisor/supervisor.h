@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "components/runtime/sim_request.h"
 #include "supervisor/goal_planner.h"
 #include "supervisor/regrasp_chart.h"
 #include "supervisor/statechart.h"
@@ -52,8 +53,6 @@ struct ControllerView {
   bool grasp_stable = false;
   double tracking_error_rad = 0.0;  // the object estimate against the controller's reference
 };
-
-enum class SimRequest { kNone, kRelease, kStop };
 
 struct SupervisorOutput {
   TaskInput task;                       // the controller's task for the next tick

@@ -22,7 +22,6 @@
 #include "supervisor/supervisor_node.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/heartbeat_t.hpp"
-#include "dmpl/sim_control_t.hpp"
 #include "dmpl/supervisor_status_t.hpp"
 #include "dmpl/task_cmd_t.hpp"
 #include "supervisor/supervisor.h"
@@ -173,11 +172,10 @@ class SupervisorNode : public Node {
     int8_t sim_command = 0;
     std::string reason;
     if (out.sim != SimRequest::kNone) {
-      sim_command = out.sim == SimRequest::kRelease ? sim_control_t::RELEASE : sim_control_t::STOP;
+      sim_command = static_cast<int8_t>(out.sim);
       reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
       if (live) {
-        log().info("t = {:.3f} s: asks the simulator to {} ({})", view.time_s,
-                   sim_command == sim_control_t::RELEASE ? "release the object" : "stop",
+        log().info("t = {:.3f} s: asks the simulator to {} ({})", view.time_s, ToString(out.sim),
                    reason);
       }
     }

@@ -392,7 +392,7 @@ void HandSim::SetInitialState() {
   SetJointPositions(q);
   held_ = false;
   if (object_params_.held) HoldObject();
-  tactile_.assign(model_.fingers().size(), TipReading{});
+  tactile_.assign(model_.fingers().size(), TipState{});
   time_ = 0.0;
   steps_ = 0;
 }
@@ -484,7 +484,7 @@ void HandSim::ReadTactile() {
   const size_t num_fingers = w.tip_colliders.size();
   std::vector<Eigen::Vector3d> weighted_pos(num_fingers, Eigen::Vector3d::Zero());
   std::vector<Eigen::Vector3d> weighted_normal(num_fingers, Eigen::Vector3d::Zero());
-  for (auto& t : tactile_) t = TipReading{};
+  for (auto& t : tactile_) t = TipState{};
   btDispatcher* dispatcher = w.world.getDispatcher();
   for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
     const btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
@@ -511,7 +511,7 @@ void HandSim::ReadTactile() {
     }
   }
   for (size_t f = 0; f < num_fingers; ++f) {
-    TipReading& t = tactile_[f];
+    TipState& t = tactile_[f];
     if (t.force <= 0.0) continue;
     t.position = world_to_palm * (weighted_pos[f] / t.force);
     t.normal = (world_to_palm.linear() * weighted_normal[f]).normalized();
@@ -519,9 +519,9 @@ void HandSim::ReadTactile() {
   }
 }
 
-JointReading HandSim::joints() const {
+JointState HandSim::joints() const {
   const World& w = *world_;
-  JointReading r;
+  JointState r;
   const int n = model_.num_actuated();
   r.position.resize(n);
   r.velocity.resize(n);
@@ -535,10 +535,10 @@ JointReading HandSim::joints() const {
   return r;
 }
 
-ObjectReading HandSim::object() const {
+ObjectState HandSim::object() const {
   const btRigidBody& body = *world_->object;
   const Eigen::Isometry3d world_to_palm = palm_pose_.inverse();
-  ObjectReading r;
+  ObjectState r;
   r.pose = world_to_palm * ToEigen(body.getWorldTransform());
   r.linear_velocity = world_to_palm.linear() * ToEigen(body.getLinearVelocity());
   r.angular_velocity = world_to_palm.linear() * ToEigen(body.getAngularVelocity());

@@ -13,17 +13,19 @@
 
 namespace dmpl {
 
-struct JointReading {
+// The simulator's true state, read by its node (the sensed layer's readings, what the noise
+// injector takes in and puts out, are sim_process/noise/hand_reading.h).
+struct JointState {
   std::vector<double> position, velocity, effort;  // actuated joints, HandModel order
 };
 
-struct ObjectReading {
+struct ObjectState {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // palm frame
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
 };
 
-struct TipReading {
+struct TipState {
   bool in_contact = false;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // force-weighted contact point on the object
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();    // object -> fingertip
@@ -51,9 +53,9 @@ class HandSim {
 
   double time() const { return time_; }
   int64_t steps() const { return steps_; }
-  JointReading joints() const;
-  ObjectReading object() const;
-  const std::vector<TipReading>& tactile() const { return tactile_; }
+  JointState joints() const;
+  ObjectState object() const;
+  const std::vector<TipState>& tactile() const { return tactile_; }
 
   void ReleaseObject();
   void HoldObject();
@@ -87,7 +89,7 @@ class HandSim {
   std::unique_ptr<World> world_;
   std::vector<double> targets_;
   std::vector<double> effort_;  // servo torques applied in the last step
-  std::vector<TipReading> tactile_;
+  std::vector<TipState> tactile_;
   double time_ = 0.0;
   int64_t steps_ = 0;
   bool held_ = false;

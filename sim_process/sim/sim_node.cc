@@ -96,7 +96,7 @@ class SimNode : public Node, private SimLoop {
     const int64_t utime = std::llround(sim_.time() * 1e6);
     sensors_msg_.utime = utime;
     sensors_msg_.seq = tick;
-    const JointReading j = sim_.joints();
+    const JointState j = sim_.joints();
     joint_state_t& joints = sensors_msg_.joints;
     joints.utime = utime;
     joints.seq = tick;
@@ -104,7 +104,7 @@ class SimNode : public Node, private SimLoop {
     joints.velocity = j.velocity;
     joints.effort = j.effort;
 
-    const ObjectReading o = sim_.object();
+    const ObjectState o = sim_.object();
     object_pose_t& pose = sensors_msg_.object;
     pose.utime = utime;
     pose.seq = tick;

@@ -4,19 +4,6 @@
 
 namespace dmpl {
 
-const char* ToString(SimRequest request) {
-  switch (request) {
-    case SimRequest::kNone: return "none";
-    case SimRequest::kRelease: return "release";
-    case SimRequest::kHold: return "hold";
-    case SimRequest::kReset: return "reset";
-    case SimRequest::kPause: return "pause";
-    case SimRequest::kResume: return "resume";
-    case SimRequest::kStop: return "stop";
-  }
-  return "unknown";
-}
-
 SimScheduler::SimScheduler(const SimScheduleParams& params, SimLoop* loop)
     : params_(params), loop_(loop) {}
 

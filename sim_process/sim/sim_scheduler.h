@@ -17,20 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "components/runtime/sim_request.h"
+
 namespace dmpl {
-
-// What a joint command or a control asks of the simulator (codes as in sim_control_t).
-enum class SimRequest : int8_t {
-  kNone = 0,
-  kRelease = 1,  // let go of a held object
-  kHold = 2,     // hold the object fixed where it is
-  kReset = 3,    // back to the initial scenario
-  kPause = 4,
-  kResume = 5,
-  kStop = 6,     // end the run
-};
-
-const char* ToString(SimRequest request);
 
 struct JointCommand {
   int64_t seq = 0;  // answers the truth of this tick
