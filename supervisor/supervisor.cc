@@ -224,7 +224,7 @@ std::vector<Role> Supervisor::roles() const {
 const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
   DMPL_DEMAND(view.fingers.size() == fingers_.size());
   view_ = view;
-  now_ = view.time_s;
+  AdvanceClock(view.time_s);
   out_.sim = SimRequest::kNone;
   out_.changed = false;
   const GraspState before = grasp_.state();
@@ -234,6 +234,20 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
   if (grasp_.state() != before) out_.changed = true;
   if (out_.changed) last_action_ = regrasp_.last_action();
   return out_;
+}
+
+// A gap in the sensed clock between two reports (real time: a process of the sensing path
+// restarting) is time the loop was blind and the hand held its last command. The supervisor's
+// clock does not count it: a phase, a recovery or a goal is not timed out by time it could not
+// act in, and on return the task goes on where it was.
+void Supervisor::AdvanceClock(double sensed_s) {
+  if (last_sensed_s_ >= 0 && sensed_s - last_sensed_s_ > params_.sensing_gap_s) {
+    const double gap = sensed_s - last_sensed_s_;
+    unseen_s_ += gap;
+    Note("the senses were gone for " + std::to_string(gap) + " s; the task goes on");
+  }
+  last_sensed_s_ = sensed_s;
+  now_ = sensed_s - unseen_s_;
 }
 
 // Controller events -> chart events.

@@ -155,6 +155,7 @@ class Supervisor : private RegraspActions {
   void Fail(const std::string& why);
 
   // Per-tick work by state.
+  void AdvanceClock(double sensed_s);
   void OnControllerEvents(const std::vector<ControllerEvent>& events);
   void TickGraspChart();
   void TickRecovery();
@@ -175,7 +176,9 @@ class Supervisor : private RegraspActions {
   SupervisorParams params_;
   SupervisorOutput out_;
   ControllerView view_;
-  double now_ = 0.0;
+  double now_ = 0.0;             // the sensed clock less the gaps in it (AdvanceClock)
+  double last_sensed_s_ = -1.0;  // the sensed clock at the last report
+  double unseen_s_ = 0.0;        // the gaps in the sensed clock so far
   double state_since_ = 0.0;
   int32_t next_task_id_ = 1;
 

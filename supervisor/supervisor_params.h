@@ -87,6 +87,9 @@ struct SupervisorParams {
   double replace_after_s = 0.2;
   double replace_lift_m = 0.01;
   double stop_after_s = 0.5;            // after the last task (or a failure): stop the simulator
+  // Real time: a step of the sensed clock between two reports longer than this is a gap (the
+  // sensing path restarted); the supervisor's timeouts do not count it.
+  double sensing_gap_s = 0.1;
   int status_every_ticks = 10;          // DMPL_SUPERVISOR_STATUS rate (and on every change)
 
   template <typename Archive>
@@ -98,6 +101,7 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(replace_after_s));
     a->Visit(DMPL_NVP(replace_lift_m), AtLeast(0));
     a->Visit(DMPL_NVP(stop_after_s), AtLeast(0));
+    a->Visit(DMPL_NVP(sensing_gap_s), Above(0));
     a->Visit(DMPL_NVP(status_every_ticks), AtLeast(1));
   }
   void Validate(const std::string& source) const { CheckBounds(*this, source, "supervisor"); }

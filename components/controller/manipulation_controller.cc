@@ -291,7 +291,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
     o.target = s.target;
     s.desired = o.desired_force;
   }
-  EmitGraspEvents(in.time_s, grip.grip_contacts);
+  EmitGraspEvents(now_, grip.grip_contacts);
   EmitMotionEvents(moving);
   out_.object_estimate = estimate_;
   return out_;
@@ -312,12 +312,21 @@ SensedInput ManipulationController::UndoTactileCalibration(const SensedInput& ra
 }
 
 // The tick length from the sensed clock (the simulator's, in lockstep), else the nominal one.
+// A gap in the sensed clock (real time: a process of the sensing path restarting) is time the
+// controller did not see: the hand held its last command. Its clock (role ramps, grip adaptation,
+// how long a grasp has been stable) does not count it, so nothing it measures over time is
+// taken as having held through it.
 void ManipulationController::AdvanceClock(double time_s) {
-  if (last_time_ >= 0 && time_s > last_time_ && time_s - last_time_ < 0.1) {
-    dt_ = time_s - last_time_;
+  if (last_time_ >= 0 && time_s > last_time_) {
+    const double step = time_s - last_time_;
+    if (step < kSensingGapS) {
+      dt_ = step;
+    } else {
+      unseen_s_ += step - dt_;
+    }
   }
   last_time_ = time_s;
-  now_ = time_s;
+  now_ = time_s - unseen_s_;
 }
 
 // Where the fingertips are (forward kinematics); a finger without a target yet holds there.

@@ -109,8 +109,10 @@ class ManipulationController {
   const HandKinematics& kin_;
   ControllerParams params_;
   double dt_;
-  double now_ = 0.0;
-  double last_time_ = -1.0;
+  double now_ = 0.0;         // the sensed clock less the gaps in it (AdvanceClock)
+  double last_time_ = -1.0;  // the sensed clock at the last step
+  double unseen_s_ = 0.0;    // the gaps in the sensed clock so far
+  static constexpr double kSensingGapS = 0.1;  // a longer step of the sensed clock is a gap
   std::vector<FingerState> fingers_;
   GripAdapter grip_;
   LoadEstimator load_;

@@ -179,6 +179,30 @@ std::vector<std::string> RunGait(Driver* d) {
   return actions;
 }
 
+// Real time: the noise injector restarts; no report comes for longer than the recovery timeout
+// (the heartbeat monitor makes the supervisor hold meanwhile). When the senses come back, the
+// recovery is timed from then, not from before the gap: the grasp is taken up again.
+TEST(SupervisorTest, TimeWithoutSensesCountsAgainstNoTimeout) {
+  Driver d("fig8_rotate");
+  d.Grasp();
+  d.sup.SetProcessLost(true, "dmpl_noise");
+  d.sup.SetProcessLost(false, "dmpl_noise");
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  d.Tick(SupervisorParams{}.recovery_timeout_s + 1.0);  // the first report after the gap
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  for (int i = 0; i < 20; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  EXPECT_NE(d.sup.note().find("resumed"), std::string::npos);
+  // Without the gap being a gap (reports every 10 ms all along), the same wait is a timeout.
+  Driver late("fig8_rotate");
+  late.Grasp();
+  late.sup.SetProcessLost(true, "dmpl_noise");
+  late.sup.SetProcessLost(false, "dmpl_noise");
+  late.view.grasp_stable = false;
+  for (int i = 0; i < 400; ++i) late.Tick();
+  EXPECT_TRUE(late.sup.failed());
+}
+
 TEST(SupervisorTest, GaitRunsThePapersRegraspCycleUntilTheGoal) {
   TaskParams tp;
   tp.turn.mode = TurnMode::kThreeFingers;
