@@ -1,10 +1,11 @@
-"""tools/dmpl bench sim|ik|loop [--json FILE]: benchmarks, measured side by side in one run.
+"""tools/dmpl bench sim|ik|loop|faults [--json FILE]: benchmarks, measured side by side in one run.
 
 sim:  median wall time of one physics step of the hand holding the paper's sphere, dmpl's
       simulator against PyBullet (PyPI) loading the same URDF and scene (configs/bench/sim_hold.yaml)
       with the same time step, solver iterations and contact settings, and against MuJoCo (PyPI)
       on the same URDF and scene with its own solver (bench_mujoco.py). Keys: dmpl_step_us,
       pybullet_step_us, mujoco_step_us, ratio (dmpl / PyBullet), ratio_mujoco (dmpl / MuJoCo).
+faults: the rate at which each process of the loop, killed mid-gait, rejoins it (bench_faults.py).
 """
 import argparse
 import json
@@ -17,6 +18,7 @@ import time
 import yaml
 
 from .paths import ROOT, executable
+from .bench_faults import VICTIMS, bench_faults
 
 SIM_SCENE = ROOT / "configs/bench/sim_hold.yaml"
 
@@ -132,9 +134,15 @@ def bench_sim(rounds=3, warmup=500, steps=3000):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="tools/dmpl bench", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("what", choices=["sim", "ik", "loop"])
+    ap.add_argument("what", choices=["sim", "ik", "loop", "faults"])
     ap.add_argument("--json", help="write the result here too")
     ap.add_argument("--rounds", type=int, help="alternating rounds (default: sim 3, loop 5)")
+    ap.add_argument("--kills", type=int, default=20, help="faults: kills per process (20)")
+    ap.add_argument("--lockstep", action="store_true", help="faults: in lockstep (default: real time)")
+    ap.add_argument("--processes", default=",".join(VICTIMS),
+                    help="faults: the processes to kill, in turn (default: %(default)s)")
+    ap.add_argument("--keep-failed", metavar="DIR",
+                    help="faults: record every trial and keep those that did not rejoin in DIR")
     args = ap.parse_args(argv)
     from .process_set import SetError
     try:
@@ -143,9 +151,17 @@ def main(argv=None):
         elif args.what == "ik":
             from .bench_ik import bench_ik
             result = bench_ik()
-        else:
+        elif args.what == "loop":
             from .bench_loop import bench_loop
             result = bench_loop(args.rounds or 5)
+        else:
+            victims = [p for p in args.processes.split(",") if p]
+            unknown = sorted(set(victims) - set(VICTIMS))
+            if unknown or args.kills < 1:
+                ap.error(f"--processes takes {', '.join(VICTIMS)}; --kills at least 1"
+                         + (f" (unknown: {', '.join(unknown)})" if unknown else ""))
+            result = bench_faults(args.kills, args.lockstep, keep_failed=args.keep_failed,
+                                  victims=victims, progress=lambda t: print(t, file=sys.stderr))
     except SetError as e:  # e.g. another run on the URL the loop benchmark needs
         print(f"dmpl bench: error: {e}", file=sys.stderr)
         return 2
