@@ -1,233 +1,188 @@
-// The grasp chart (the paper's Fig. 5) and its actions: approach, grip, release, recover, hold,
-// fail.
-#include "supervisor/supervisor.h"
-
-#include <algorithm>
+// The grasp chart (the paper's Fig. 5) and its actions: approach, grip, release, the tasks,
+// recover, hold, fail.
 #include <string>
 
-#include "components/runtime/check.h"
+#include "supervisor/supervisor.h"
 
 namespace dmpl {
+
+struct Supervisor::GraspChartActions {
+  GraspChart::Action approach, grip, schedule_release, release, first_task, next_task, finish,
+      regrip, resume, hold, fail;
+  sc::Guard more, last, can_recover, cannot_recover;
+};
+
+Supervisor::GraspChartActions Supervisor::MakeGraspChartActions() {
+  using Action = GraspChart::Action;
+  using WithData = std::function<void(const GraspEventData&)>;
+  using Plain = std::function<void()>;
+  return {
+      Action("approach the contact points", Plain([this] { Approach(); })),
+      Action("composite grip", Plain([this] { board_.NewTask("grip"), board_.AllGrip(); })),
+      Action("wait, then release", Plain([this] { stable_at_ = board_.now; })),
+      Action("release the object", Plain([this] {
+               board_.out.sim = SimRequest::kRelease;
+               release_sent_ = true;
+             })),
+      Action("start the first task", Plain([this] { BeginTasks(); })),
+      Action("start the next task", Plain([this] { StartTask(task_index_ + 1); })),
+      Action("all tasks done", Plain([this] { Finish(); })),
+      Action("pause and re-grip", WithData([this](const GraspEventData& e) {
+               PauseAndRegrip(e.reason);
+             })),
+      Action("resume the task", Plain([this] { Resume(); })),
+      Action("hold the grasp", WithData([this](const GraspEventData& e) { Hold(e.reason); })),
+      Action("fail", WithData([this](const GraspEventData& e) { Fail(e.reason); })),
+      sc::Guard("more tasks", [this] { return task_index_ + 1 < num_tasks(); }),
+      sc::Guard("last task", [this] { return task_index_ + 1 >= num_tasks(); }),
+      sc::Guard("recoveries left", [this] { return recoveries_counted_ < params_.max_recoveries; }),
+      sc::Guard("no recoveries left",
+                [this] { return recoveries_counted_ >= params_.max_recoveries; }),
+  };
+}
 
 Supervisor::GraspChart Supervisor::BuildGraspChart() {
   using S = GraspState;
   using E = GraspEvent;
-  using Action = GraspChart::Action;
-  const Action approach("approach the contact points", [this] { Approach(); });
-  const Action grip("composite grip", [this] {
-    NewTask("grip");
-    AllGrip();
-  });
-  const Action schedule_release("wait, then release", [this] { stable_at_ = now_; });
-  const Action release("release the object", [this] {
-    out_.sim = SimRequest::kRelease;
-    release_sent_ = true;
-  });
-  const Action first_task("start the first task", [this] {
-    start_pose_ = view_.object;
-    goal_ = view_.object;
-    has_goal_ = true;
-    for (size_t f = 0; f < fingers_.size(); ++f) home_[f] = view_.fingers[f].tip;
-    home_centre_ = view_.object.translation();
-    StartTask(0);
-  });
-  const Action next_task("start the next task", [this] { StartTask(task_index_ + 1); });
-  const Action finish("all tasks done", [this] {
-    NewTask("done");
-    AllGrip();
-    HoldObjectWhereItIs();
-  });
-  const Action regrip("pause and re-grip",
-                      [this](const GraspEventData& e) { PauseAndRegrip(e.reason); });
-  const Action resume("resume the task", [this] { Resume(); });
-  const Action hold("hold the grasp", [this](const GraspEventData& e) { Hold(e.reason); });
-  const Action fail("fail", [this](const GraspEventData& e) { Fail(e.reason); });
-  const sc::Guard more("more tasks", [this] { return task_index_ + 1 < num_tasks(); });
-  const sc::Guard last("last task", [this] { return task_index_ + 1 >= num_tasks(); });
-  const sc::Guard can_recover("recoveries left",
-                              [this] { return recoveries_counted_ < params_.max_recoveries; });
-  const sc::Guard cannot_recover("no recoveries left",
-                                 [this] { return recoveries_counted_ >= params_.max_recoveries; });
+  const GraspChartActions a = MakeGraspChartActions();
   return GraspChart("grasp", S::ObjectHeld, {
-      // from           event             guard           action            to
-      {S::ObjectHeld,  E::Start,         sc::kAlways,    approach,         S::Approaching},
-      {S::Approaching, E::AllTouching,   sc::kAlways,    grip,             S::Gripping},
-      {S::Approaching, E::Timeout,       sc::kAlways,    fail,             S::Failed},
-      {S::Gripping,    E::GraspStable,   sc::kAlways,    schedule_release, S::Releasing},
-      {S::Gripping,    E::Timeout,       sc::kAlways,    fail,             S::Failed},
-      {S::Releasing,   E::ReleaseDue,    sc::kAlways,    release,          S::Settling},
-      {S::Settling,    E::Settled,       sc::kAlways,    first_task,       S::Tasks},
-      {S::Settling,    E::GraspLost,     sc::kAlways,    fail,             S::Failed},
-      {S::Tasks,       E::TaskDone,      more,           next_task,        S::Tasks},
-      {S::Tasks,       E::TaskDone,      last,           finish,           S::Done},
-      {S::Tasks,       E::TaskFailed,    sc::kAlways,    fail,             S::Failed},
-      {S::Tasks,       E::ContactLost,   can_recover,    regrip,           S::Recovering},
-      {S::Tasks,       E::Slip,          can_recover,    regrip,           S::Recovering},
-      {S::Tasks,       E::ContactLost,   cannot_recover, fail,             S::Failed},
-      {S::Tasks,       E::Slip,          cannot_recover, fail,             S::Failed},
-      {S::Tasks,       E::GraspLost,     sc::kAlways,    fail,             S::Failed},
-      {S::Recovering,  E::Recovered,     sc::kAlways,    resume,           S::Tasks},
-      {S::Recovering,  E::Timeout,       sc::kAlways,    fail,             S::Failed},
-      {S::Recovering,  E::GraspLost,     sc::kAlways,    fail,             S::Failed},
-      {S::Settling,    E::ProcessLost,   sc::kAlways,    hold,             S::Holding},
-      {S::Tasks,       E::ProcessLost,   sc::kAlways,    hold,             S::Holding},
-      {S::Recovering,  E::ProcessLost,   sc::kAlways,    hold,             S::Holding},
-      {S::Holding,     E::ProcessBack,   sc::kAlways,    regrip,           S::Recovering},
-      {S::Holding,     E::GraspLost,     sc::kAlways,    fail,             S::Failed},
-      {S::Done,        E::GraspLost,     sc::kAlways,    fail,             S::Failed},
+      // from           event             guard             action              to
+      {S::ObjectHeld,  E::Start,         sc::kAlways,      a.approach,         S::Approaching},
+      {S::Approaching, E::AllTouching,   sc::kAlways,      a.grip,             S::Gripping},
+      {S::Approaching, E::Timeout,       sc::kAlways,      a.fail,             S::Failed},
+      {S::Gripping,    E::GraspStable,   sc::kAlways,      a.schedule_release, S::Releasing},
+      {S::Gripping,    E::Timeout,       sc::kAlways,      a.fail,             S::Failed},
+      {S::Releasing,   E::ReleaseDue,    sc::kAlways,      a.release,          S::Settling},
+      {S::Settling,    E::Settled,       sc::kAlways,      a.first_task,       S::Tasks},
+      {S::Settling,    E::GraspLost,     sc::kAlways,      a.fail,             S::Failed},
+      {S::Tasks,       E::TaskDone,      a.more,           a.next_task,        S::Tasks},
+      {S::Tasks,       E::TaskDone,      a.last,           a.finish,           S::Done},
+      {S::Tasks,       E::TaskFailed,    sc::kAlways,      a.fail,             S::Failed},
+      {S::Tasks,       E::ContactLost,   a.can_recover,    a.regrip,           S::Recovering},
+      {S::Tasks,       E::Slip,          a.can_recover,    a.regrip,           S::Recovering},
+      {S::Tasks,       E::ContactLost,   a.cannot_recover, a.fail,             S::Failed},
+      {S::Tasks,       E::Slip,          a.cannot_recover, a.fail,             S::Failed},
+      {S::Tasks,       E::GraspLost,     sc::kAlways,      a.fail,             S::Failed},
+      {S::Recovering,  E::Recovered,     sc::kAlways,      a.resume,           S::Tasks},
+      {S::Recovering,  E::Timeout,       sc::kAlways,      a.fail,             S::Failed},
+      {S::Recovering,  E::GraspLost,     sc::kAlways,      a.fail,             S::Failed},
+      {S::Settling,    E::ProcessLost,   sc::kAlways,      a.hold,             S::Holding},
+      {S::Tasks,       E::ProcessLost,   sc::kAlways,      a.hold,             S::Holding},
+      {S::Recovering,  E::ProcessLost,   sc::kAlways,      a.hold,             S::Holding},
+      {S::Holding,     E::ProcessBack,   sc::kAlways,      a.regrip,           S::Recovering},
+      {S::Holding,     E::GraspLost,     sc::kAlways,      a.fail,             S::Failed},
+      {S::Done,        E::GraspLost,     sc::kAlways,      a.fail,             S::Failed},
   });
 }
 
 void Supervisor::Approach() {
-  NewTask("approach");
-  for (size_t f = 0; f < fingers_.size(); ++f) {
-    const auto it = tasks_.grasp.approach.find(fingers_[f]);
+  board_.NewTask("approach");
+  for (int f = 0; f < board_.num_fingers(); ++f) {
+    const auto it = tasks_.grasp.approach.find(board_.fingers[f]);
     if (it == tasks_.grasp.approach.end()) {
       // No approach points: the fingers already touch; grip in place.
-      SetFinger(static_cast<int>(f), Role::kGrip, Primitive::kComposite);
+      board_.SetFinger(f, Role::kGrip, Primitive::kComposite);
     } else {
-      SetFinger(static_cast<int>(f), Role::kFree, Primitive::kPosition, &it->second);
+      board_.SetFinger(f, Role::kFree, Primitive::kPosition, &it->second);
     }
   }
 }
 
 void Supervisor::TickApproach() {
   bool all = true;
-  for (size_t f = 0; f < fingers_.size(); ++f) {
-    FingerTask& t = out_.task.fingers[f];
-    if (t.primitive == Primitive::kPosition) {
-      if (view_.fingers[f].in_contact) {
+  for (int f = 0; f < board_.num_fingers(); ++f) {
+    const bool touching = board_.view.fingers[f].in_contact;
+    if (board_.out.task.fingers[f].primitive == Primitive::kPosition) {
+      if (touching) {
         // Tactile contact: from position to composite control (Fig. 5).
-        SetFinger(static_cast<int>(f), Role::kGrip, Primitive::kComposite);
-        out_.changed = true;
-      } else if (reached_[f]) {
-        // At the point and still nothing: the object is smaller; reach further in.
-        reached_[f] = false;
-        if (++extensions_[f] > tasks_.grasp.max_extensions) {
-          grasp_.Process(GraspEvent::Timeout, {"finger " + fingers_[f] + " found no object"});
-          return;
-        }
-        const Eigen::Vector3d in = (view_.object.translation() - t.target).normalized();
-        const Eigen::Vector3d further = t.target + tasks_.grasp.approach_extension_m * in;
-        SetFinger(static_cast<int>(f), Role::kFree, Primitive::kPosition, &further);
-        out_.changed = true;
+        board_.SetFinger(f, Role::kGrip, Primitive::kComposite);
+        board_.out.changed = true;
+      } else if (board_.reached[f]) {
+        ReachFurther(f);
+        if (!grasp_.is(GraspState::Approaching)) return;
       }
     }
-    all = all && out_.task.fingers[f].primitive == Primitive::kComposite &&
-          view_.fingers[f].in_contact;
+    all = all && board_.out.task.fingers[f].primitive == Primitive::kComposite && touching;
   }
   if (all) grasp_.Process(GraspEvent::AllTouching);
+  if (InState(GraspState::Approaching, tasks_.grasp.timeout_s)) {
+    grasp_.Process(GraspEvent::Timeout, {"the fingers did not all touch within " +
+                                         std::to_string(tasks_.grasp.timeout_s) + " s"});
+  }
+}
+
+// At the point and still nothing: the object is smaller; reach further in.
+void Supervisor::ReachFurther(int f) {
+  board_.reached[f] = false;
+  if (++extensions_[f] > tasks_.grasp.max_extensions) {
+    grasp_.Process(GraspEvent::Timeout, {"finger " + board_.fingers[f] + " found no object"});
+    return;
+  }
+  const Eigen::Vector3d& target = board_.out.task.fingers[f].target;
+  const Eigen::Vector3d in = (board_.view.object.translation() - target).normalized();
+  const Eigen::Vector3d further = target + tasks_.grasp.approach_extension_m * in;
+  board_.SetFinger(f, Role::kFree, Primitive::kPosition, &further);
+  board_.out.changed = true;
+}
+
+// The first task begins: where the object and each fingertip are is the start and the homes.
+void Supervisor::BeginTasks() {
+  goal_.Begin(board_.view.object);
+  for (int f = 0; f < board_.num_fingers(); ++f) board_.home[f] = board_.view.fingers[f].tip;
+  board_.home_centre = board_.view.object.translation();
+  StartTask(0);
+}
+
+void Supervisor::StartTask(int index) {
+  task_index_ = index;
+  local_.Start(task(), gait_.StepSpeed());
+  if (task().type == TaskType::kGait) gait_.Start();
+}
+
+void Supervisor::Finish() {
+  board_.NewTask("done");
+  board_.AllGrip();
+  goal_.HoldWhereItIs();
 }
 
 void Supervisor::PauseAndRegrip(const std::string& why) {
   ++recoveries_;
   ++recoveries_counted_;
-  if (task_index_ >= 0 && tasks_.tasks[task_index_].type == TaskType::kGait) {
-    regrasp_.Process(RegraspEvent::Abort);
-    explorer_ = -1;
-  }
-  NewTask("recover");
-  AllGrip();
-  std::fill(replace_.begin(), replace_.end(), Replace::kNone);
+  if (GaitUnderWay()) gait_.Abort();
+  board_.NewTask("recover");
+  board_.AllGrip();
+  replacer_.Reset();
   // The orientation where the object is (what turned, turned), the position where the task held
   // it: an object that drifted away from a finger that lost it is brought back into that
   // finger's reach instead of being held where the finger cannot touch it.
-  const Eigen::Vector3d position = goal_.translation();
-  const bool had_goal = has_goal_;
-  HoldObjectWhereItIs();
-  if (had_goal) {
-    goal_.translation() = position;
-    out_.task.object_target = goal_;
-  }
-  Note("recovering: " + why);
+  goal_.HoldTurnedWhereItIs();
+  board_.Note("recovering: " + why);
 }
 
 void Supervisor::Resume() {
-  const CTask& task = tasks_.tasks[task_index_];
-  Note("resumed after " + std::to_string(recoveries_) + " recoveries");
-  if (task.type == TaskType::kGait) {
-    NewTask(task.name);
-    AllGrip();
-    phase_since_ = now_;
-    regrasp_.Process(RegraspEvent::Begin);
+  board_.Note("resumed after " + std::to_string(recoveries_) + " recoveries");
+  if (!GaitUnderWay()) {
+    local_.Resume(task(), gait_.StepSpeed());
     return;
   }
-  // A local task starts over toward the goal it had; what was already turned counts.
-  const double done = rotation_commanded_ - rotation_at_task_start_;
-  StartTask(task_index_);
-  if (task.motion && task.motion->reference == ObjectMotion::Reference::kCurrent) {
-    RotateGoal(Axis(task.motion->axis), -done);
-    rotation_goal_ = rotation_commanded_;
-  }
+  board_.NewTask(task().name);
+  board_.AllGrip();
+  gait_.Resume();
 }
 
 void Supervisor::Hold(const std::string& why) {
-  if (task_index_ >= 0 && tasks_.tasks[task_index_].type == TaskType::kGait) {
-    regrasp_.Process(RegraspEvent::Abort);
-  }
-  NewTask("hold");
-  AllGrip();
-  HoldObjectWhereItIs();
-  Note("holding the grasp: " + why);
+  if (GaitUnderWay()) gait_.Abort();
+  board_.NewTask("hold");
+  board_.AllGrip();
+  goal_.HoldWhereItIs();
+  board_.Note("holding the grasp: " + why);
 }
 
 void Supervisor::Fail(const std::string& why) {
-  NewTask("failed");
-  AllGrip();
-  if (view_.fingers.size() == fingers_.size()) HoldObjectWhereItIs();
-  Note("failed: " + why);
-}
-
-// A grip finger that does not touch again in a recovery: lifted off, moved over its home, brought
-// in by a grip (supervisor.replace_after_s).
-void Supervisor::TickReplace() {
-  if (params_.replace_after_s <= 0 || task_index_ < 0) return;
-  const Eigen::Vector3d centre = view_.object.translation();
-  for (size_t k = 0; k < fingers_.size(); ++k) {
-    const int f = static_cast<int>(k);
-    const double since = now_ - replace_since_[k];
-    switch (replace_[k]) {
-      case Replace::kNone:
-        if (!view_.fingers[k].in_contact && now_ - state_since_ > params_.replace_after_s) {
-          // Off the surface along the line from the centre.
-          Eigen::Vector3d out = view_.fingers[k].tip - centre;
-          if (out.norm() < 1e-6) out = home_[k] - home_centre_;
-          const Eigen::Vector3d target =
-              view_.fingers[k].tip + params_.replace_lift_m * out.normalized();
-          SetFinger(f, Role::kFree, Primitive::kPosition, &target);
-          reached_[k] = false;
-          replace_[k] = Replace::kLift;
-          replace_since_[k] = now_;
-          Note("placing finger " + fingers_[k] + " again");
-        }
-        break;
-      case Replace::kLift:
-        if (reached_[k] || since > 1.0) {
-          // Over its home, as far out.
-          const Eigen::Vector3d home = home_[k] - home_centre_;
-          const Eigen::Vector3d target =
-              centre + home.normalized() * (home.norm() + params_.replace_lift_m);
-          SetFinger(f, Role::kFree, Primitive::kPosition, &target);
-          reached_[k] = false;
-          replace_[k] = Replace::kOver;
-          replace_since_[k] = now_;
-          out_.changed = true;
-        }
-        break;
-      case Replace::kOver:
-        if (reached_[k] || since > 1.5) {
-          SetFinger(f, Role::kGrip, Primitive::kComposite);
-          replace_[k] = Replace::kIn;
-          replace_since_[k] = now_;
-          out_.changed = true;
-        }
-        break;
-      case Replace::kIn:
-        // Touching: done; still nothing after a while: lift and try again.
-        if (view_.fingers[k].in_contact || since > 1.0) replace_[k] = Replace::kNone;
-        break;
-    }
-  }
+  board_.NewTask("failed");
+  board_.AllGrip();
+  goal_.HoldWhereItIs();
+  board_.Note("failed: " + why);
 }
 
 }  // namespace dmpl

@@ -312,21 +312,13 @@ SensedInput ManipulationController::UndoTactileCalibration(const SensedInput& ra
 }
 
 // The tick length from the sensed clock (the simulator's, in lockstep), else the nominal one.
-// A gap in the sensed clock (real time: a process of the sensing path restarting) is time the
-// controller did not see: the hand held its last command. Its clock (role ramps, grip adaptation,
-// how long a grasp has been stable) does not count it, so nothing it measures over time is
-// taken as having held through it.
+// The controller's own clock (role ramps, grip adaptation, how long a grasp has been stable)
+// does not count a gap in the sensed one (SensedClock): nothing it measures over time is taken
+// as having held through time it did not see.
 void ManipulationController::AdvanceClock(double time_s) {
-  if (last_time_ >= 0 && time_s > last_time_) {
-    const double step = time_s - last_time_;
-    if (step < kSensingGapS) {
-      dt_ = step;
-    } else {
-      unseen_s_ += step - dt_;
-    }
-  }
-  last_time_ = time_s;
-  now_ = time_s - unseen_s_;
+  const SensedClock::Advanced advanced = clock_.Advance(time_s);
+  if (advanced.step_s > 0) dt_ = advanced.step_s;
+  now_ = clock_.now();
 }
 
 // Where the fingertips are (forward kinematics); a finger without a target yet holds there.

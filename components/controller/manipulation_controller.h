@@ -24,6 +24,7 @@
 #include "components/controller/grip_adapter.h"
 #include "components/controller/load_estimator.h"
 #include "components/kinematics/hand_kinematics.h"
+#include "components/runtime/sensed_clock.h"
 
 namespace dmpl {
 
@@ -109,10 +110,8 @@ class ManipulationController {
   const HandKinematics& kin_;
   ControllerParams params_;
   double dt_;
-  double now_ = 0.0;         // the sensed clock less the gaps in it (AdvanceClock)
-  double last_time_ = -1.0;  // the sensed clock at the last step
-  double unseen_s_ = 0.0;    // the gaps in the sensed clock so far
-  static constexpr double kSensingGapS = 0.1;  // a longer step of the sensed clock is a gap
+  SensedClock clock_{0.1};  // a step of the sensed clock over 0.1 s is a gap
+  double now_ = 0.0;        // clock_.now() at this step
   std::vector<FingerState> fingers_;
   GripAdapter grip_;
   LoadEstimator load_;

@@ -1,0 +1,52 @@
+#include "supervisor/blackboard.h"
+
+#include <algorithm>
+
+#include "components/runtime/check.h"
+
+namespace dmpl {
+
+Blackboard::Blackboard(std::vector<std::string> finger_names)
+    : fingers(std::move(finger_names)),
+      reached(fingers.size(), false),
+      home(fingers.size(), Eigen::Vector3d::Zero()) {
+  out.task.fingers.resize(fingers.size());
+  out.task.name = "idle";
+}
+
+int Blackboard::Finger(const std::string& name) const {
+  const auto it = std::find(fingers.begin(), fingers.end(), name);
+  DMPL_DEMAND(it != fingers.end());
+  return static_cast<int>(it - fingers.begin());
+}
+
+void Blackboard::NewTask(const std::string& name) {
+  out.task.task_id = next_task_id++;
+  out.task.name = name;
+  out.changed = true;
+}
+
+void Blackboard::SetFinger(int f, Role role, Primitive primitive, const Eigen::Vector3d* target,
+                           double force) {
+  FingerTask& t = out.task.fingers[f];
+  t.role = role;
+  t.primitive = primitive;
+  t.has_target = target != nullptr;
+  t.target = target ? *target : Eigen::Vector3d::Zero();
+  t.force_n = force;
+}
+
+void Blackboard::AllGrip() {
+  for (int f = 0; f < num_fingers(); ++f) SetFinger(f, Role::kGrip, Primitive::kComposite);
+}
+
+void Blackboard::Note(const std::string& text) {
+  note = text;
+  out.changed = true;
+}
+
+Eigen::Quaterniond Blackboard::SensedOrientation() const {
+  return Eigen::Quaterniond(view.object.linear()).normalized();
+}
+
+}  // namespace dmpl

@@ -1,0 +1,43 @@
+#pragma once
+// What the supervisor's parts (the grasp chart, the gait, the local tasks, the recovery) share,
+// as a behaviour tree's blackboard: what the controller said and when, and the task going out.
+// Each part reads it and writes its commands on it; the Supervisor sends them once per tick.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "supervisor/supervisor_types.h"
+
+namespace dmpl {
+
+struct Blackboard {
+  explicit Blackboard(std::vector<std::string> finger_names);
+
+  int Finger(const std::string& name) const;  // the index of a finger of the hand (must be one)
+  int num_fingers() const { return static_cast<int>(fingers.size()); }
+  // Commands: a new task (a new id), a finger's role and primitive in it.
+  void NewTask(const std::string& name);
+  void SetFinger(int f, Role role, Primitive primitive, const Eigen::Vector3d* target = nullptr,
+                 double force = 0.0);
+  void AllGrip();
+  void Note(const std::string& text);  // what the supervisor says (its status, the log)
+  // The controller said so since the motion began, or says so now.
+  bool MotionDone() const { return motion_done_event || view.motion_done; }
+  Eigen::Quaterniond SensedOrientation() const;
+
+  std::vector<std::string> fingers;
+  ControllerView view;
+  double now = 0.0;                // the sensed clock less its gaps (SensedClock)
+  std::vector<bool> reached;       // each finger reached its target since it was set
+  bool motion_done_event = false;  // the controller said the object motion is done
+  // Where each fingertip and the object's centre were when the first task began.
+  std::vector<Eigen::Vector3d> home;
+  Eigen::Vector3d home_centre = Eigen::Vector3d::Zero();
+  SupervisorOutput out;
+  std::string note;
+  int32_t next_task_id = 1;
+};
+
+}  // namespace dmpl

@@ -1,0 +1,36 @@
+#pragma once
+// In a recovery, a grip finger that does not touch again is placed again
+// (supervisor.replace_after_s): lifted off along the line from the object's centre, moved over
+// its home as far out, and brought in by a grip. A finger that lost its contact far from home
+// often rests on the object with a link (no tactile sensor there) and would press on it forever
+// with its tip just short of the surface.
+#include <vector>
+
+#include "supervisor/blackboard.h"
+#include "supervisor/supervisor_params.h"
+
+namespace dmpl {
+
+class FingerReplacer {
+ public:
+  // The references must outlive the replacer.
+  FingerReplacer(Blackboard* board, const SupervisorParams& params);
+
+  void Reset();  // nobody is being placed
+  // One tick of the recovery that began at `recovery_since`.
+  void Tick(double recovery_since);
+  bool placing() const;  // a finger is on its way
+
+ private:
+  enum class Stage { kNone, kLift, kOver, kIn };
+  void Lift(int f);
+  void MoveOverHome(int f);
+  void BringIn(int f);
+
+  Blackboard* board_;
+  const SupervisorParams& params_;
+  std::vector<Stage> stage_;
+  std::vector<double> since_;
+};
+
+}  // namespace dmpl

@@ -1,0 +1,278 @@
+#include "supervisor/gait.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <utility>
+
+namespace dmpl {
+
+namespace {
+
+std::string Fixed(double value, int digits = 2) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << value;
+  return os.str();
+}
+
+}  // namespace
+
+Gait::Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const TaskParams& params,
+           uint64_t seed, Report report)
+    : board_(board),
+      goal_(goal),
+      spec_(spec),
+      params_(params),
+      seed_(seed),
+      report_(std::move(report)),
+      geometry_(board->home, board->home_centre, spec, params.max_finger_deviation_rad),
+      regrasp_(this, board->fingers, spec.order, params.turn.mode, params.grip_while_turning) {}
+
+void Gait::Start() {
+  board_->AllGrip();
+  geometry_ = GaitGeometry(board_->home, board_->home_centre, spec_,
+                           params_.max_finger_deviation_rad);
+  goal_->CommandInAll(params_.angle);
+  if (params_.has_goals()) StartGoals();
+  done_ = false;
+  explorer_ = -1;
+  phase_since_ = board_->now;
+  regrasp_.Process(RegraspEvent::Begin);
+}
+
+void Gait::Resume() {
+  phase_since_ = board_->now;
+  regrasp_.Process(RegraspEvent::Begin);
+}
+
+void Gait::Abort() {
+  regrasp_.Process(RegraspEvent::Abort);
+  explorer_ = -1;
+}
+
+void Gait::StartGoals() {
+  std::vector<Eigen::Quaterniond> goals;
+  for (const OrientationParam& g : params_.goals) goals.push_back(g.q);
+  const Eigen::Quaterniond from = goals.empty() ? board_->SensedOrientation() : goals.back();
+  for (const auto& q : RandomGoals(seed_, params_.random_goals,
+                                   params_.random_goal_separation_rad, from)) {
+    goals.push_back(q);
+  }
+  goals_ = GoalSequence(std::move(goals), params_.goal_tolerance_rad, params_.goal_hold_s,
+                        params_.goal_timeout_s);
+  goals_.Start(board_->now);
+}
+
+double Gait::StepSpeed() const {
+  const double overlap = params_.overlap_angular_speed;
+  return regrasp_.exploring() && regrasp_.overlapping() && overlap > 0 ? overlap
+                                                                       : params_.angular_speed;
+}
+
+void Gait::Explore(const std::string& finger) {
+  const int f = board_->Finger(finger);
+  explorer_ = f;
+  phase_since_ = board_->now;
+  board_->reached[f] = false;
+  // Toward a goal orientation the steps turn about the axis to it (positive angles).
+  const double sign = params_.has_goals() || params_.angle >= 0 ? 1.0 : -1.0;
+  const Eigen::Vector3d axis = StepAxis();
+  // With four the explorer rides every step; when the others turn while it slides, all but one.
+  const bool four = regrasp_.turn() == RegraspChart::Turn::kFourFingers ||
+                    (regrasp_.turn() == RegraspChart::Turn::kAuto && !regrasp_.overlapping());
+  const bool spaced = spec_.tip_clearance_m > 0 && geometry_.AroundFingers(axis);
+  step_limit_ = spaced ? geometry_.StepLimit(axis, board_->view, params_.step / 4.0) : 0.0;
+  const Eigen::AngleAxisd turn(ExploreBack(f, axis, sign, four), axis);
+  explore_.point = geometry_.ExplorePoint(f, turn, board_->view);
+  explore_.axis = axis;
+  explore_.spaced = spaced;
+  explore_.neighbour_rides = !four;
+  explore_.sign = sign;
+  explore_.target = spaced ? geometry_.KeepClear(f, axis, sign, StepSize(), !four, explore_.point,
+                                                 board_->view)
+                           : explore_.point;
+  board_->NewTask(regrasp_.last_action());
+  board_->AllGrip();
+  board_->SetFinger(f, Role::kExplore, Primitive::kHybrid, &explore_.target,
+                    params_.explore_force_n);
+  goal_->Send();
+}
+
+double Gait::ExploreBack(int f, const Eigen::Vector3d& axis, double sign, bool four) const {
+  // Back against the rotation, so that the finger never drifts to its joint limits.
+  const double n = static_cast<double>(board_->num_fingers());
+  const double rides = four ? n : n - 1;
+  const double back = -sign * params_.explore_travel * rides * StepSize() / 2.0;
+  // No further back than the deviation allows.
+  return LimitDeviation() ? geometry_.LimitBack(f, axis, back) : back;
+}
+
+void Gait::Rotate(const std::vector<std::string>& /*grippers*/) {
+  // The explorer, if any, keeps exploring in place; the others grip.
+  phase_since_ = board_->now;
+  board_->NewTask(regrasp_.last_action());
+  if (!params_.has_goals()) {
+    const double remaining = goal_->remaining();
+    step_ = std::copysign(std::min(StepSize(), std::abs(remaining)), remaining);
+    goal_->Turn(params_.axis.direction, step_, StepSpeed());
+    return;
+  }
+  // One step from where the object is toward the current goal, the shortest way.
+  const AxisAngle to_goal = RotationToGoal(board_->SensedOrientation(), goals_.current());
+  step_ = std::min(StepSize(), to_goal.angle);
+  if (LimitDeviation()) {
+    // The explorer, if it slides meanwhile, does not ride this step.
+    const int skip = regrasp_.exploring() ? explorer_ : -1;
+    step_ = geometry_.StepWithinReach(to_goal.axis, step_, skip, board_->view);
+    ChooseNextExplorer(to_goal.axis, step_ + StepSize(), skip);
+  }
+  goal_->Aim((Eigen::AngleAxisd(step_, to_goal.axis) * board_->SensedOrientation())
+                 .toRotationMatrix(),
+             step_, StepSpeed());
+}
+
+void Gait::Grip(const std::string& finger) {
+  phase_since_ = board_->now;
+  explorer_ = -1;
+  board_->NewTask(regrasp_.last_action());
+  board_->SetFinger(board_->Finger(finger), Role::kGrip, Primitive::kComposite);
+  if (LimitDeviation()) ChooseNextExplorer(StepAxis(), StepSize(), -1);
+}
+
+void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
+  const int next = geometry_.FurthestFromHome(axis, step, skip, board_->view);
+  if (next >= 0) regrasp_.set_next_explorer(board_->fingers[next]);
+}
+
+Eigen::Vector3d Gait::StepAxis() const {
+  return params_.has_goals()
+             ? RotationToGoal(board_->SensedOrientation(), goals_.current()).axis
+             : params_.axis.direction;
+}
+
+double Gait::StepSize() const {
+  return step_limit_ > 0 ? std::min(params_.step, step_limit_) : params_.step;
+}
+
+void Gait::KeepExplorerClear() {
+  if (!explore_.spaced || explorer_ < 0) return;
+  // About the axis the explore began with: a goal reached meanwhile turns the next steps about
+  // another one, and the explorer's point was chosen for this one.
+  const Eigen::Vector3d axis = explore_.axis.normalized();
+  // What the step still has to turn about the axis: the finger it slides toward rides it.
+  double remaining = 0.0;
+  if (explore_.neighbour_rides && goal_->has_goal()) {
+    const Eigen::AngleAxisd left(goal_->pose().linear() * board_->view.object.linear().transpose());
+    remaining = std::clamp(std::abs(left.angle() * left.axis().dot(axis)), 0.0, std::abs(step_));
+  }
+  const Eigen::Vector3d target =
+      geometry_.KeepClear(explorer_, axis, explore_.sign, remaining, explore_.neighbour_rides,
+                          explore_.point, board_->view);
+  if ((target - explore_.target).norm() < 1e-3) return;  // not for the estimate's noise
+  explore_.target = target;
+  board_->out.task.fingers[explorer_].target = target;
+  board_->reached[explorer_] = false;
+  board_->out.changed = true;
+}
+
+bool Gait::CanTurnWithout(const std::string& /*finger*/) const {
+  // The fingers stand around one axis of the palm (gait.overlap_about): about it, any three of
+  // them turn the object while the fourth slides back; about an axis tilted from it they push
+  // the object along that axis too, which needs the fourth's support (measured: three alone
+  // lose the object about y, z and the diagonal; four turn it).
+  return geometry_.AroundFingers(StepAxis());
+}
+
+bool Gait::GoalReached() const {
+  if (params_.has_goals()) return goals_.complete();
+  return std::abs(goal_->remaining()) < 1e-9;
+}
+
+bool Gait::StepDone(double in_phase) const {
+  // The reference needs |step| / speed to arrive; after that and a moment to settle, an object
+  // close enough to its goal has done its step.
+  const double travel = std::abs(step_) / StepSpeed();
+  const bool settled = in_phase > travel + spec_.settle_time_s &&
+                       board_->view.tracking_error_rad < spec_.settle_tolerance_rad;
+  return board_->MotionDone() || settled;
+}
+
+bool Gait::TickGoals() {
+  switch (goals_.Update(board_->now, board_->SensedOrientation())) {
+    case GoalSequence::Event::kReached:
+      board_->Note("goal " + std::to_string(goals_.reached()) + " of " +
+                   std::to_string(goals_.size()) + " reached in " +
+                   Fixed(goals_.times_s().back()) + " s");
+      report_(GaitReport::kGoalReached, "");
+      if (goals_.complete()) done_ = true;
+      return true;
+    case GoalSequence::Event::kTimedOut:
+      report_(GaitReport::kFailed,
+              "goal " + std::to_string(goals_.reached() + 1) + " not reached within " +
+                  Fixed(params_.goal_timeout_s, 1) + " s (" + Fixed(goals_.error_rad()) +
+                  " rad from it)");
+      return false;
+    case GoalSequence::Event::kNone:
+      return true;
+  }
+  return true;
+}
+
+void Gait::Tick() {
+  const double in_phase = board_->now - phase_since_;
+  if (params_.has_goals() && !TickGoals()) return;
+  if (regrasp_.exploring()) {
+    TickExplore(in_phase);
+  } else if (regrasp_.rotating()) {
+    TickRotate(in_phase);
+  } else {
+    TickGrip(in_phase);
+  }
+  if (done_) report_(GaitReport::kDone, "");
+}
+
+void Gait::TickExplore(double in_phase) {
+  KeepExplorerClear();
+  const bool there = explorer_ >= 0 && board_->reached[explorer_] &&
+                     board_->view.fingers[explorer_].in_contact;
+  // Continuous: the three turn the object while the explorer slides; both must be done.
+  const bool turned = !regrasp_.overlapping() || StepDone(in_phase);
+  if ((there && turned) || in_phase > spec_.explore_timeout_s) {
+    if (!there) {
+      board_->Note("explorer " + board_->fingers[explorer_] + " did not reach its point in time");
+    }
+    if (!turned) board_->Note("the step did not finish while the explorer slid");
+    regrasp_.Process(RegraspEvent::ExploreReady);
+  }
+}
+
+void Gait::TickRotate(double in_phase) {
+  const ControllerView& view = board_->view;
+  // A turn that began with a grip waits for the grasp to be stable too (as a grip would).
+  const bool gripped = !regrasp_.gripping_while_turning() ||
+                       (view.grasp_stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s;
+  if (StepDone(in_phase) && gripped) {
+    if (!board_->MotionDone()) {
+      board_->Note("step settled " + std::to_string(view.tracking_error_rad) + " rad short");
+    }
+    if (!view.grasp_stable && regrasp_.gripping_while_turning()) {
+      board_->Note("no stable grasp within the grip timeout; going on");
+    }
+    regrasp_.Process(RegraspEvent::RotateDone);
+  } else if (in_phase > spec_.rotate_timeout_s) {
+    report_(GaitReport::kSlipped, "a rotation step did not finish within " +
+                                      std::to_string(spec_.rotate_timeout_s) + " s");
+  }
+}
+
+void Gait::TickGrip(double in_phase) {
+  // Wait for a stable grasp (at least a moment after the role change).
+  const bool stable = board_->view.grasp_stable;
+  if ((stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s) {
+    if (!stable) board_->Note("no stable grasp within the grip timeout; going on");
+    regrasp_.Process(RegraspEvent::GripStable);
+  }
+}
+
+}  // namespace dmpl

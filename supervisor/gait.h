@@ -1,0 +1,104 @@
+#pragma once
+// Finger gaiting: the regrasp chart (Fig. 4) and what its actions mean for the fingers (explore,
+// rotate, grip), the steps toward the task's angle or its goal orientations, and the state of
+// the explore under way. The supervisor starts, resumes and aborts it and ticks it while the
+// grasp chart is in Tasks; the gait reports through `report` (a goal reached, the task done or
+// failed, a slip), as a Boost.SML action is handed what it acts on.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "supervisor/blackboard.h"
+#include "supervisor/gait_geometry.h"
+#include "supervisor/goal_planner.h"
+#include "supervisor/object_goal.h"
+#include "supervisor/regrasp_chart.h"
+#include "supervisor/supervisor_params.h"
+#include "supervisor/task_description.h"
+
+namespace dmpl {
+
+// What the gait tells the supervisor that runs it (with a reason, for failures and slips).
+enum class GaitReport { kGoalReached, kDone, kFailed, kSlipped };
+
+class Gait : private RegraspActions {
+ public:
+  using Report = std::function<void(GaitReport, const std::string& reason)>;
+  // `seed`: the run's (random goals). The references must outlive the gait.
+  Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const TaskParams& params,
+       uint64_t seed, Report report);
+
+  void Start();   // a gait task begins, all fingers gripping
+  void Resume();  // after a recovery, all fingers gripping
+  void Abort();   // a contingency: back to all-grip without finishing the step
+  void Tick();    // once per tick while the grasp chart is in Tasks
+  void LocalRotate() { regrasp_.Process(RegraspEvent::LocalRotate); }  // A1, in a local task
+  // The reference's speed in the step under way.
+  double StepSpeed() const;
+
+  const RegraspChart& chart() const { return regrasp_; }
+  void set_log(sc::StateMachine<RegraspState, RegraspEvent>::Log log) {
+    regrasp_.set_log(std::move(log));
+  }
+  const GoalSequence& goals() const { return goals_; }
+
+ private:
+  // RegraspActions.
+  void Explore(const std::string& finger) override;
+  void Rotate(const std::vector<std::string>& grippers) override;
+  void Grip(const std::string& finger) override;
+  void Finish() override { done_ = true; }
+  bool GoalReached() const override;
+  bool CanTurnWithout(const std::string& finger) const override;
+
+  void StartGoals();
+  bool TickGoals();  // false: the gait failed (a goal timed out)
+  void TickExplore(double in_phase);
+  void TickRotate(double in_phase);
+  void TickGrip(double in_phase);
+  // Explore: how far back (signed, about `axis`) the explorer goes: where it can follow the
+  // steps it turns with until it explores again, half of them behind its home, half ahead.
+  double ExploreBack(int f, const Eigen::Vector3d& axis, double sign, bool four) const;
+  // While a finger explores: its point moved again by KeepClear from where the finger it slides
+  // toward is now (and the rest of the step it will still turn).
+  void KeepExplorerClear();
+  Eigen::Vector3d StepAxis() const;  // the axis the next step turns about
+  double StepSize() const;           // the task's step, or less (GaitGeometry::StepLimit)
+  bool StepDone(double in_phase) const;
+  void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
+  bool LimitDeviation() const {
+    return params_.has_goals() && params_.max_finger_deviation_rad > 0;
+  }
+
+  // The explore under way: the explorer's point before KeepClear, and how to keep it clear
+  // while it slides (the finger it slides toward keeps moving, and so may the object).
+  struct ExploreState {
+    Eigen::Vector3d target = Eigen::Vector3d::Zero();
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // the step axis when it began
+    bool spaced = false;
+    bool neighbour_rides = false;
+    double sign = 1.0;
+  };
+
+  Blackboard* board_;
+  ObjectGoal* goal_;
+  const GaitSpec& spec_;
+  const TaskParams& params_;
+  uint64_t seed_;
+  Report report_;
+  GaitGeometry geometry_;
+  GoalSequence goals_;
+  double phase_since_ = 0.0;
+  int explorer_ = -1;
+  double step_ = 0.0;        // the rotation step under way
+  double step_limit_ = 0.0;  // StepLimit at the last explore (0: none)
+  ExploreState explore_;
+  bool done_ = false;
+  RegraspChart regrasp_;
+};
+
+}  // namespace dmpl

@@ -1,0 +1,66 @@
+#pragma once
+// The geometry of finger gaiting, as pure functions of where the fingers stood when the first
+// task began (their homes), where they and the object are now (the controller's view), and the
+// gait's settings. Nothing here commands anything: the Gait asks, then acts.
+//
+// The explorer's next point is its home turned about the sensed centre (ExplorePoint): the
+// object is taken to be as far from its centre in every direction as it was at the homes.
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "supervisor/supervisor_types.h"
+#include "supervisor/task_description.h"
+
+namespace dmpl {
+
+class GaitGeometry {
+ public:
+  // `max_deviation_rad`: how far (seen from the object's centre) a finger may be from its home
+  // (0: no limit).
+  GaitGeometry(std::vector<Eigen::Vector3d> home, const Eigen::Vector3d& home_centre,
+               const GaitSpec& spec, double max_deviation_rad);
+
+  // Whether the fingers stand around `axis` (spec.overlap_about, within overlap_max_tilt_rad).
+  bool AroundFingers(const Eigen::Vector3d& axis) const;
+  // The largest step the fingers' spacing around `axis` allows (spec.tip_clearance_m), at least
+  // `smallest`; 0 when the fingers do not stand around it. Between two explores of a finger the
+  // one it slides back toward rides n - 1 steps toward it, so the fingers' spacing (2 pi / n)
+  // must hold n - 1 steps and the angle two fingertips need at the distance they stand from
+  // the axis.
+  double StepLimit(const Eigen::Vector3d& axis, const ControllerView& view,
+                   double smallest) const;
+  // Finger `f`'s home turned by `turn` about the sensed centre.
+  Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn,
+                               const ControllerView& view) const;
+  // `back` (rad about `axis`), no further than the deviation allows finger `f` from its home:
+  // a turn by phi about the axis moves a point at beta from it by 2 asin(sin(beta) sin(phi/2)).
+  double LimitBack(int f, const Eigen::Vector3d& axis, double back) const;
+  // The explorer's `target` moved forward (about `axis`, by `sign`) until it keeps the clearance
+  // from the finger it slides back toward, where that finger will be after `step` (if it rides).
+  Eigen::Vector3d KeepClear(int explorer, const Eigen::Vector3d& axis, double sign, double step,
+                            bool neighbour_rides, const Eigen::Vector3d& target,
+                            const ControllerView& view) const;
+  // The angle (about the object's centre) between finger k's home and where it would be after
+  // `turn`.
+  double Deviation(int k, const Eigen::AngleAxisd& turn, const ControllerView& view) const;
+  // The largest part of `step` about `axis` that leaves every finger that rides it (all but
+  // `skip`, if any; only fingers in contact) within the deviation, or no further than it is.
+  double StepWithinReach(const Eigen::Vector3d& axis, double step, int skip,
+                         const ControllerView& view) const;
+  // The finger (not `skip`) that `step` about `axis` takes furthest from its home.
+  int FurthestFromHome(const Eigen::Vector3d& axis, double step, int skip,
+                       const ControllerView& view) const;
+
+ private:
+  int num_fingers() const { return static_cast<int>(home_.size()); }
+
+  std::vector<Eigen::Vector3d> home_;
+  Eigen::Vector3d home_centre_;
+  double tip_clearance_m_;
+  Eigen::Vector3d overlap_about_;
+  double overlap_max_tilt_rad_;
+  double max_deviation_rad_;
+};
+
+}  // namespace dmpl

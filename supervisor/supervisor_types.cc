@@ -1,0 +1,41 @@
+#include "supervisor/supervisor_types.h"
+
+namespace dmpl {
+
+const char* ToString(GraspState s) {
+  switch (s) {
+    case GraspState::ObjectHeld: return "ObjectHeld";
+    case GraspState::Approaching: return "Approaching";
+    case GraspState::Gripping: return "Gripping";
+    case GraspState::Releasing: return "Releasing";
+    case GraspState::Settling: return "Settling";
+    case GraspState::Tasks: return "Tasks";
+    case GraspState::Recovering: return "Recovering";
+    case GraspState::Holding: return "Holding";
+    case GraspState::Done: return "Done";
+    case GraspState::Failed: return "Failed";
+  }
+  return "?";
+}
+
+const char* ToString(GraspEvent e) {
+  switch (e) {
+    case GraspEvent::Start: return "Start";
+    case GraspEvent::AllTouching: return "AllTouching";
+    case GraspEvent::GraspStable: return "GraspStable";
+    case GraspEvent::ReleaseDue: return "ReleaseDue";
+    case GraspEvent::Settled: return "Settled";
+    case GraspEvent::TaskDone: return "TaskDone";
+    case GraspEvent::TaskFailed: return "TaskFailed";
+    case GraspEvent::ContactLost: return "ContactLost";
+    case GraspEvent::Slip: return "Slip";
+    case GraspEvent::Recovered: return "Recovered";
+    case GraspEvent::ProcessLost: return "ProcessLost";
+    case GraspEvent::ProcessBack: return "ProcessBack";
+    case GraspEvent::GraspLost: return "GraspLost";
+    case GraspEvent::Timeout: return "Timeout";
+  }
+  return "?";
+}
+
+}  // namespace dmpl

@@ -1,0 +1,55 @@
+#pragma once
+// The supervisor's vocabulary: the grasp chart's states and events, what it reads of the
+// controller, and what it sends.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "components/controller/controller_types.h"
+#include "components/runtime/sim_request.h"
+
+namespace dmpl {
+
+enum class GraspState {
+  ObjectHeld, Approaching, Gripping, Releasing, Settling, Tasks, Recovering, Holding, Done, Failed
+};
+enum class GraspEvent {
+  Start, AllTouching, GraspStable, ReleaseDue, Settled, TaskDone, TaskFailed, ContactLost, Slip,
+  Recovered, ProcessLost, ProcessBack, GraspLost, Timeout
+};
+const char* ToString(GraspState s);
+const char* ToString(GraspEvent e);
+// What a grasp event carries: why (for the log, the status and the action that handles it) and
+// the finger it is about.
+struct GraspEventData {
+  std::string reason;
+  int finger = -1;  // -1: not about one finger
+};
+
+struct FingerView {
+  bool in_contact = false;
+  double force = 0.0;
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+};
+
+// What the supervisor reads from one controller status.
+struct ControllerView {
+  int64_t seq = 0;
+  double time_s = 0.0;
+  std::vector<FingerView> fingers;
+  Eigen::Isometry3d object = Eigen::Isometry3d::Identity();  // the controller's estimate
+  std::vector<ControllerEvent> events;
+  bool motion_done = false;
+  bool grasp_stable = false;
+  double tracking_error_rad = 0.0;  // the object estimate against the controller's reference
+};
+
+struct SupervisorOutput {
+  TaskInput task;                       // the controller's task for the next tick
+  SimRequest sim = SimRequest::kNone;   // a simulator control to send with this tick's seq
+  bool changed = false;                 // state, action or task changed this tick
+};
+
+}  // namespace dmpl
