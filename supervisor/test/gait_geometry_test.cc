@@ -1,0 +1,89 @@
+#include "supervisor/gait_geometry.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace dmpl {
+namespace {
+
+// Four fingertips 90 deg apart around the x axis, `r` from an object centred at the origin, as
+// they stood when the task began (their homes) and as they stand now.
+struct Ring {
+  explicit Ring(double r) {
+    view.fingers.resize(4);
+    for (int k = 0; k < 4; ++k) {
+      const double a = M_PI / 2 * k;
+      home.emplace_back(0.0, r * std::cos(a), r * std::sin(a));
+      view.fingers[k].tip = home.back();
+      view.fingers[k].in_contact = true;
+    }
+  }
+  GaitGeometry Geometry(double clearance, double max_deviation = 0.0) const {
+    GaitSpec spec;
+    spec.tip_clearance_m = clearance;
+    return GaitGeometry(home, Eigen::Vector3d::Zero(), spec, max_deviation);
+  }
+  std::vector<Eigen::Vector3d> home;
+  ControllerView view;
+};
+
+TEST(GaitGeometryTest, FingersStandAroundThePalmAxisOnly) {
+  const GaitGeometry g = Ring(0.025).Geometry(0.03);
+  EXPECT_TRUE(g.AroundFingers(Eigen::Vector3d::UnitX()));
+  EXPECT_TRUE(g.AroundFingers(-Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(g.AroundFingers(Eigen::Vector3d::UnitY()));
+}
+
+TEST(GaitGeometryTest, StepLimitLeavesTheClearanceBetweenNeighbours) {
+  // 90 deg apart, each neighbour rides 3 steps toward the explorer: 3 steps + the gap angle of
+  // two tips 3 cm apart at 2.5 cm must fit in 90 deg.
+  const Ring ring(0.025);
+  const double gap = 2.0 * std::asin(0.03 / (2.0 * 0.025));
+  EXPECT_NEAR(ring.Geometry(0.03).StepLimit(Eigen::Vector3d::UnitX(), ring.view, 0.0),
+              (M_PI / 2 - gap) / 3.0, 1e-12);
+  // A larger object leaves larger steps; the smallest step is kept on a tiny one.
+  const Ring large(0.05);
+  EXPECT_GT(large.Geometry(0.03).StepLimit(Eigen::Vector3d::UnitX(), large.view, 0.0),
+            ring.Geometry(0.03).StepLimit(Eigen::Vector3d::UnitX(), ring.view, 0.0));
+  const Ring tiny(0.01);
+  EXPECT_EQ(tiny.Geometry(0.03).StepLimit(Eigen::Vector3d::UnitX(), tiny.view, 0.04), 0.04);
+  // About an axis the fingers do not stand around (two homes at one angle): no limit.
+  EXPECT_EQ(ring.Geometry(0.03).StepLimit(Eigen::Vector3d::UnitY(), ring.view, 0.04), 0.0);
+}
+
+TEST(GaitGeometryTest, ExplorersPointKeepsClearOfTheFingerBehindIt) {
+  const Ring ring(0.025);
+  const GaitGeometry g = ring.Geometry(0.03);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // Finger 1 (at 90 deg) slides back (sign +1: the finger behind it is finger 0, at 0 deg)
+  // to 10 deg: within the clearance of finger 0, so moved forward to the gap angle.
+  const Eigen::Vector3d target = Eigen::AngleAxisd(0.1745, x) * ring.home[0];
+  const Eigen::Vector3d kept = g.KeepClear(1, x, 1.0, 0.0, false, target, ring.view);
+  const double gap = 2.0 * std::asin(0.03 / (2.0 * 0.025));
+  EXPECT_NEAR(std::atan2(kept.z(), kept.y()), gap, 1e-9);
+  EXPECT_NEAR(kept.norm(), 0.025, 1e-12);
+  // Far enough ahead already (past the gap angle, 1.29 rad): unchanged.
+  const Eigen::Vector3d far = Eigen::AngleAxisd(1.4, x) * ring.home[0];
+  EXPECT_TRUE(g.KeepClear(1, x, 1.0, 0.0, false, far, ring.view).isApprox(far));
+}
+
+TEST(GaitGeometryTest, DeviationsAndTheStepWithinReach) {
+  const Ring ring(0.025);
+  const GaitGeometry g = ring.Geometry(0.0, 0.5);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(g.Deviation(2, Eigen::AngleAxisd(0.3, x), ring.view), 0.3, 1e-12);
+  // Every finger stands on the x axis' circle: a turn about x moves each by its angle; the
+  // deviation limit 0.5 stops a 0.8 rad step at the last sample within it (16 samples).
+  EXPECT_NEAR(g.StepWithinReach(x, 0.8, -1, ring.view), 0.5, 0.8 / 16);
+  EXPECT_LE(g.StepWithinReach(x, 0.8, -1, ring.view), 0.5);
+  // About z, the fingers on the y axis (0 and 2) move, those on it (1 and 3) do not.
+  EXPECT_EQ(g.FurthestFromHome(Eigen::Vector3d::UnitZ(), 0.3, -1, ring.view), 0);
+  EXPECT_EQ(g.FurthestFromHome(Eigen::Vector3d::UnitZ(), 0.3, 0, ring.view), 2);
+  // The explorer goes back no further than the limit lets it.
+  EXPECT_NEAR(g.LimitBack(1, x, -1.0), -0.5, 1e-12);
+  EXPECT_NEAR(g.LimitBack(1, x, -0.2), -0.2, 1e-12);
+}
+
+}  // namespace
+}  // namespace dmpl
