@@ -1,11 +1,15 @@
 """Issue 19: sweeps on an existing distributed engine. A sweep's trials submitted to a Dask
-scheduler (here a scheduler and two workers started as separate processes on loopback, as on a
-lab's machines) give the results of the same sweep run here, also when a worker dies mid-sweep;
-an interrupted sweep resumes, running only the trials it had not finished; a Slurm array job's
-trials, collected, give them too."""
+scheduler (a scheduler and two workers started as separate processes on loopback, as
+docs/clusters.md starts them: the scheduler without the project's paths) give the results of the
+same sweep run here, also when a worker dies mid-sweep; an interrupted sweep resumes, running
+only the trials it had not finished; a worker that cannot import the project stops the sweep
+before any trial, with one error naming it; a Slurm array job's trials, collected, give the
+results too."""
 import json
 import os
 import shutil
+import signal
+import socket
 import subprocess
 import sys
 import tempfile
@@ -15,16 +19,35 @@ import unittest
 from pathlib import Path
 
 import mp
-from dmpl_tools.sweep import _worker_has_project, run_sweep
+from distributed import Client
+from dmpl_tools.sweep import _worker_command, _worker_problem, run_sweep, worker_facts
 from dmpl_tools.sweep import main as sweep_main
 
 EXP = mp.ROOT + "/configs/experiments/fig8_sphere.yaml"
+BUILD = os.environ["DMPL_BUILD_DIR"]
 # What differs between two runs of one trial: the machine's time, and whether it was resumed.
 NOT_RESULTS = {"wall_time_s", "realtime_factor", "resumed"}
+# docs/clusters.md's environments: the scheduler's has none of the project's paths; the
+# workers' has them on PYTHONPATH.
+PLAIN = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+WITH_PATHS = dict(PLAIN, PYTHONPATH=f"{BUILD}/python:{mp.ROOT}/tools/python")
 
 
 def results(summary):
     return {k: v for k, v in summary.items() if k not in NOT_RESULTS}
+
+
+def sweep_results(out):
+    """A sweep's sweep.json, but for what differs between two runs of a trial."""
+    doc = json.loads((Path(out) / "sweep.json").read_text())
+    doc["summaries"] = [results(s) for s in doc["summaries"]]
+    return doc
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
 
 
 class SweepClusterTest(unittest.TestCase):
@@ -36,53 +59,61 @@ class SweepClusterTest(unittest.TestCase):
     def tearDownClass(cls):
         shutil.rmtree(cls.tmp, ignore_errors=True)
 
-    def start(self, *args):
-        """A Dask process (`dask scheduler` or `dask worker`), as the README starts them."""
-        log = open(self.tmp / f"dask-{len(self.dask)}.log", "w")
-        proc = subprocess.Popen([str(Path(sys.executable).parent / "dask"), *args],
-                                stdout=log, stderr=subprocess.STDOUT, cwd=mp.ROOT)
+    def setUp(self):
+        self.dask = []
+
+    def start(self, env, *args):
+        """`dask ARGS` (the venv's), each in its own process group: a nanny, its worker and
+        the worker's trials die together."""
+        log = open(self.tmp / f"dask-{self.id().split('.')[-1]}-{len(self.dask)}.log", "w")
+        proc = subprocess.Popen([str(Path(sys.executable).parent / "dask"), *args], env=env,
+                                stdout=log, stderr=subprocess.STDOUT, cwd=mp.ROOT,
+                                start_new_session=True)
         self.dask.append((proc, log))
         return proc
 
+    def cluster(self, *worker_envs):
+        """A scheduler and one worker per environment, started as docs/clusters.md says (ports
+        picked free); returns its address, once every worker is connected, and the workers."""
+        port = free_port()
+        address = f"tcp://127.0.0.1:{port}"
+        self.start(PLAIN, "scheduler", "--host", "127.0.0.1", "--port", str(port))
+        workers = [self.start(env, "worker", address, "--nworkers", "1", "--nthreads", "1")
+                   for env in worker_envs]
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(len(workers), timeout=60)
+        return address, workers
+
     def tearDown(self):
-        for proc, log in getattr(self, "dask", []):
+        for proc, log in self.dask:
             if proc.poll() is None:
-                proc.kill()
+                os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
             log.close()
 
     def test_a_cluster_sweep_gives_the_local_results_survives_a_worker_and_resumes(self):
-        # A scheduler and two workers, separate processes on loopback (no nanny: a killed
-        # worker stays dead); one trial per worker at a time.
-        self.dask = []
-        file = self.tmp / "scheduler.json"
-        self.start("scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                   "--scheduler-file", str(file))
-        end = time.monotonic() + 60
-        while not file.exists() and time.monotonic() < end:
-            time.sleep(0.1)
-        address = json.loads(file.read_text())["address"]
-        workers = [self.start("worker", address, "--nthreads", "1", "--no-nanny",
-                              "--no-dashboard", "--name", f"w{i}") for i in range(2)]
+        address, workers = self.cluster(WITH_PATHS, WITH_PATHS)
         local, local_rate = run_sweep(EXP, 4, 2, self.tmp / "local")
-        # Kill a worker once the first trial is done: its trial runs again on the other.
-        out = self.tmp / "cluster"
+        # Kill a worker (its nanny too: it stays dead) once the first trial is done: its trial
+        # runs again on the other.
+        out, swept = self.tmp / "cluster", threading.Event()
 
         def kill_after_first():
-            end = time.monotonic() + 120
-            while time.monotonic() < end and not list(out.glob("seed*/summary.json")):
+            while not swept.is_set() and not list(out.glob("seed*/summary.json")):
                 time.sleep(0.05)
-            workers[0].kill()
+            if not swept.is_set():
+                os.killpg(workers[0].pid, signal.SIGKILL)
         killer = threading.Thread(target=kill_after_first)
         killer.start()
-        clustered, rate = run_sweep(EXP, 4, 2, out, cluster=address)
-        killer.join()
+        try:
+            clustered, rate = run_sweep(EXP, 4, 2, out, cluster=address)
+        finally:
+            swept.set()
+            killer.join()
         self.assertIsNotNone(workers[0].poll(), "the worker was not killed mid-sweep")
         self.assertEqual(rate, local_rate)
         self.assertEqual([results(s) for s in clustered], [results(s) for s in local])
-        self.assertEqual(json.loads((out / "sweep.json").read_text())["success_rate"],
-                         json.loads((self.tmp / "local" / "sweep.json").read_text())
-                         ["success_rate"])
+        self.assertEqual(sweep_results(out), sweep_results(self.tmp / "local"))
         # Interrupted after two trials: the others' summaries are gone. --resume runs only
         # those two.
         for seed in (3, 4):
@@ -93,6 +124,25 @@ class SweepClusterTest(unittest.TestCase):
         # A trial of another config is not taken for a finished one.
         other, _ = run_sweep(EXP, 1, 1, out, resume=True, sets=["noise.object_position_sigma=0.001"])
         self.assertNotIn("resumed", other[0])
+
+    def test_a_worker_without_the_projects_python_path_stops_the_sweep_at_submission(self):
+        address, _ = self.cluster(WITH_PATHS, PLAIN)
+        with Client(address, timeout=60) as client:
+            has_paths = client.run(lambda: "PYTHONPATH" in os.environ)
+        bad = [w for w, has in has_paths.items() if not has]
+        self.assertEqual(len(bad), 1)
+        out = self.tmp / "refused"
+        cli = subprocess.run([sys.executable, "-m", "dmpl_tools.sweep", EXP, "--seeds", "2",
+                              "--cluster", address, "--out", str(out)],
+                             capture_output=True, text=True, cwd=mp.ROOT, timeout=120)
+        self.assertEqual(cli.returncode, 2, cli.stderr)
+        self.assertNotIn("Traceback", cli.stderr)
+        self.assertEqual(cli.stderr.count("dmpl sweep: error:"), 1, cli.stderr)
+        self.assertIn("1 of 2 workers cannot run the trials", cli.stderr)
+        self.assertIn(f"{bad[0]}: ", cli.stderr)
+        self.assertIn("No module named 'dmpl_tools'", cli.stderr)
+        self.assertIn(f"PYTHONPATH={BUILD}/python:{mp.ROOT}/tools/python", cli.stderr)
+        self.assertEqual(list(out.glob("seed*")), [], "a trial ran before the check")
 
     def test_a_slurm_array_sweep_gives_the_local_results(self):
         # The script sbatch would run, run here once per array task; --collect gathers.
@@ -113,11 +163,17 @@ class SweepClusterTest(unittest.TestCase):
         shutil.rmtree(out / "seed2")
         self.assertEqual(sweep_main(["--collect", str(out)]), 1)
 
-    def test_a_worker_without_the_project_is_named(self):
-        self.assertEqual(_worker_has_project(mp.ROOT, os.environ["DMPL_BUILD_DIR"]), "")
-        missing = _worker_has_project("/nonexistent", "/nonexistent/build")
-        self.assertIn("/nonexistent/configs", missing)
-        self.assertIn("dmpl_oneprocess", missing)
+    def test_a_worker_without_the_build_is_named(self):
+        # The check a worker runs, in a worker's environment that points at another build.
+        here = worker_facts()
+        self.assertEqual(here["missing"], [])
+        check = subprocess.run(_worker_command("--worker-facts"), capture_output=True, text=True,
+                               env=dict(os.environ, DMPL_BUILD_DIR="/nonexistent/build"))
+        problem = _worker_problem(check, here)
+        self.assertIn("lacks /nonexistent/build/bin/dmpl_oneprocess", problem)
+        self.assertIn(f"build /nonexistent/build (here {os.path.realpath(BUILD)})", problem)
+        same = subprocess.run(_worker_command("--worker-facts"), capture_output=True, text=True)
+        self.assertEqual(_worker_problem(same, here), "")
 
 
 if __name__ == "__main__":

@@ -14,10 +14,14 @@ already finished in DIR; --cluster ADDRESS runs the trials on a Dask scheduler's
 trial a one-process run that returns its summary (docs/clusters.md).
 """
 import argparse
+import contextlib
+import importlib.metadata
 import json
 import os
+import platform
 import queue
 import statistics
+import subprocess
 import sys
 import threading
 import time
@@ -26,6 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import experiment
+from .affinity import child_command
 from .launch import ACTIVE
 from .process_set import RECORD_POLICIES, SetError
 from .paths import OUT, ROOT
@@ -363,17 +368,59 @@ def _run_here(specs, jobs, report):
             raise
 
 
-def _worker_has_project(root, build):
-    """Run on each worker: what it lacks of the project at these paths ("" when nothing)."""
-    import os.path
-    missing = [p for p in (os.path.join(root, "configs"),
-                           os.path.join(build, "bin", "dmpl_oneprocess")) if not os.path.exists(p)]
-    return ", ".join(missing)
+WORKER_WAIT_S = 30
+
+
+def _worker_command(*args):
+    """What a Dask worker runs, for its check and for each trial: `python -m dmpl_tools.sweep`
+    with this client's Python (the project's venv, at the same path) in the worker's
+    environment (its PYTHONPATH), killed with the worker (setpriv: Dask runs a dead worker's
+    trial again on another, so the first must not run on). Submitted as subprocess.run with
+    plain arguments: the scheduler unpickles every task, and need not have the project's paths."""
+    return child_command([sys.executable, "-m", "dmpl_tools.sweep", *args], None)
+
+
+def worker_facts():
+    """What a worker's trials would find (--worker-facts prints it): where its dmpl_tools finds
+    the project, what it lacks of it, its Python's version and those of the pinned packages."""
+    from .paths import BUILD
+    pins = ROOT / "tools" / "requirements.txt"
+    names = [line.split("==")[0] for line in pins.read_text().splitlines()
+             if "==" in line and not line.startswith("#")] if pins.is_file() else []
+    packages = {}
+    for name in names:
+        try:
+            packages[name] = importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            packages[name] = None
+    return {"root": os.path.realpath(ROOT), "build": os.path.realpath(BUILD),
+            "missing": [str(p) for p in (ROOT / "configs", BUILD / "bin" / "dmpl_oneprocess")
+                        if not p.exists()],
+            "python": platform.python_version(), "packages": packages}
+
+
+def _worker_problem(check, here):
+    """What keeps a worker from running the trials as this client would ("" when nothing), from
+    its --worker-facts run: a CompletedProcess, or the exception that kept it from starting."""
+    if isinstance(check, Exception):
+        return f"cannot run {sys.executable}: {check}"
+    if check.returncode != 0:  # dmpl_tools or what it imports is not on the worker's path
+        lines = check.stderr.strip().splitlines()
+        return lines[-1] if lines else f"the check exited with {check.returncode}"
+    there = json.loads(check.stdout.splitlines()[-1])
+    problems = [f"lacks {p}" for p in there["missing"]]
+    problems += [f"{k} {there[k]} (here {here[k]})" for k in ("root", "build", "python")
+                 if there[k] != here[k]]
+    problems += [f"{name} {there['packages'].get(name)} (here {here['packages'].get(name)})"
+                 for name in sorted(set(here["packages"]) | set(there["packages"]))
+                 if there["packages"].get(name) != here["packages"].get(name)]
+    return ", ".join(problems)
 
 
 def _run_on_cluster(address, specs, report):
     """Submits the trials to the Dask scheduler at `address`; its workers need the project at
-    the same paths (a shared file system): checked first, with one clear error."""
+    the same paths (a shared file system) and its paths on PYTHONPATH: every worker is checked
+    first, and the sweep stops with one error naming each that cannot run the trials."""
     try:
         from distributed import Client, as_completed
     except ImportError:
@@ -386,19 +433,48 @@ def _run_on_cluster(address, specs, report):
         raise experiment.ExperimentError(f"--cluster {address}: no Dask scheduler there ({e})") \
             from None
     with client:
-        lacking = {w: m for w, m in client.run(_worker_has_project, str(ROOT), str(BUILD)).items()
-                   if m}
         if not client.scheduler_info().get("workers"):
-            raise experiment.ExperimentError(f"--cluster {address}: the scheduler has no workers")
-        if lacking:
+            # Workers started just before the sweep may still be connecting.
+            print(f"[sweep] waiting up to {WORKER_WAIT_S} s for a worker of {address}",
+                  file=sys.stderr, flush=True)
+            try:
+                client.wait_for_workers(1, timeout=WORKER_WAIT_S)
+            except TimeoutError:
+                raise experiment.ExperimentError(f"--cluster {address}: the scheduler has no "
+                                                 f"workers (waited {WORKER_WAIT_S} s)") from None
+        checks = client.run(subprocess.run, _worker_command("--worker-facts"),
+                            capture_output=True, text=True, on_error="return")
+        here = worker_facts()
+        problems = {w: p for w, p in ((w, _worker_problem(c, here)) for w, c in checks.items())
+                    if p}
+        if problems:
+            env = f"PYTHONPATH={BUILD}/python:{ROOT}/tools/python"
+            if os.path.realpath(BUILD) != os.path.realpath(ROOT / "build"):
+                env += f" DMPL_BUILD_DIR={BUILD}"
             raise experiment.ExperimentError(
-                f"--cluster {address}: workers without the project (built at {BUILD}): " +
-                "; ".join(f"{w} lacks {m}" for w, m in sorted(lacking.items())))
-        futures = [client.submit(run_trial, spec, pure=False) for spec in specs]
+                f"--cluster {address}: {len(problems)} of {len(checks)} workers cannot run the "
+                "trials:\n" + "".join(f"  {w}: {p}\n" for w, p in sorted(problems.items())) +
+                f"Start each worker with the project at {ROOT}, built, and its paths: cd {ROOT} "
+                f"&& {env} {Path(sys.executable).parent / 'dask'} worker {address} "
+                "(docs/clusters.md)")
+        futures = [client.submit(subprocess.run, _worker_command("--run-spec", json.dumps(spec)),
+                                 capture_output=True, text=True, pure=False) for spec in specs]
         order = {f.key: i for i, f in enumerate(futures)}
         trials = [None] * len(futures)
         for future in as_completed(futures):
-            summary = future.result()
+            spec = specs[order[future.key]]
+            try:
+                done = future.result()
+            except Exception as e:  # e.g. KilledWorker: its workers kept dying
+                raise experiment.ExperimentError(
+                    f"--cluster {address}: the trial of {spec['run_dir']} failed: "
+                    f"{type(e).__name__}: {e}") from None
+            if done.returncode != 0:
+                lines = done.stderr.strip().splitlines()
+                raise experiment.ExperimentError(
+                    f"--cluster {address}: the trial of {spec['run_dir']} failed on its worker "
+                    f"(exit {done.returncode}): {lines[-1] if lines else ''}")
+            summary = json.loads(done.stdout.splitlines()[-1])
             trials[order[future.key]] = summary
             report(summary)
         return trials
@@ -430,7 +506,18 @@ def main(argv=None):
                     help="the tables of a --slurm-script sweep from its trials' summaries")
     ap.add_argument("--run-trial", nargs=2, metavar=("TRIALS", "INDEX"),
                     help=argparse.SUPPRESS)  # what a --slurm-script array task runs
+    # What a --cluster worker runs: a trial (its summary on stdout), and the check before.
+    ap.add_argument("--run-spec", metavar="JSON", help=argparse.SUPPRESS)
+    ap.add_argument("--worker-facts", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.worker_facts:
+        print(json.dumps(worker_facts()))
+        return 0
+    if args.run_spec:
+        with contextlib.redirect_stdout(sys.stderr):  # stdout carries the summary only
+            summary = run_trial(json.loads(args.run_spec))
+        print(json.dumps(summary))
+        return 0
     try:
         if args.run_trial:
             summary = run_listed_trial(args.run_trial[0], int(args.run_trial[1]))
