@@ -21,8 +21,15 @@ if [ "${1:-}" = "--bus" ]; then
   shift 2
 fi
 base="${LCM_DEFAULT_URL:-$default_url}"
-if [ "$bus" -gt 0 ] && [[ "$base" =~ ^(udpm://[^:/?]+):([0-9]+)(.*)$ ]]; then
-  LCM_DEFAULT_URL="${BASH_REMATCH[1]}:$(( BASH_REMATCH[2] + 1000 * bus ))${BASH_REMATCH[3]}"
+if [ "$bus" -gt 0 ]; then
+  # The bus's URL by the rule the nodes use (components/runtime/lcm_url.h, through Python).
+  LCM_DEFAULT_URL=$(PYTHONPATH="$build/python:$(dirname "$0")/python" python3 -c '
+import sys
+from dmpl_tools.channels import bus_url
+try:
+    print(bus_url(sys.argv[1], int(sys.argv[2])))
+except ValueError as e:
+    sys.exit(f"dmpl spy: {e}")' "$base" "$bus") || exit 2
   export LCM_DEFAULT_URL
 fi
 echo "dmpl spy: the ${buses[$bus]} bus, ${LCM_DEFAULT_URL:-$base}" >&2

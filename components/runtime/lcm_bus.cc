@@ -4,6 +4,7 @@
 
 #include "components/runtime/channels.h"
 #include "components/runtime/check.h"
+#include "components/runtime/lcm_url.h"
 
 namespace dmpl {
 
@@ -21,15 +22,10 @@ int LcmBus::BusOf(const std::string& channel) {
 }
 
 std::string LcmBus::UrlFor(const std::string& base_url, int bus) {
-  if (bus == 0 || base_url.rfind("udpm://", 0) != 0) return base_url;
-  // udpm://GROUP:PORT?options
-  const size_t host = std::strlen("udpm://");
-  const size_t colon = base_url.find(':', host);
-  if (colon == std::string::npos) return base_url + ":" + std::to_string(7667 + 1000 * bus);
-  size_t end = colon + 1;
-  while (end < base_url.size() && std::isdigit(static_cast<unsigned char>(base_url[end]))) ++end;
-  const int port = std::stoi(base_url.substr(colon + 1, end - colon - 1));
-  return base_url.substr(0, colon + 1) + std::to_string(port + 1000 * bus) + base_url.substr(end);
+  std::string why;
+  const std::optional<std::string> url = BusUrl(base_url, bus, &why);
+  DMPL_THROW_UNLESS(url.has_value(), why);
+  return *url;
 }
 
 lcm::LCM& LcmBus::Get(int bus) {

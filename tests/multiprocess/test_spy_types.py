@@ -59,6 +59,35 @@ class SpyTest(unittest.TestCase):
             port = 7667 + 1000 * BUS_NAMES.index(name)
             self.assertIn(f"the {name} bus, udpm://239.255.76.67:{port}?ttl=0", said)
 
+    def test_spy_python_and_cpp_share_one_url_rule(self):
+        # components/runtime/lcm_url.h: a URL without a port has LCM's 7667 (C++ once appended
+        # the port after the options, spy and Python left the URL alone: three rules).
+        from dmpl_channels import BUS_NAMES
+        from dmpl_tools.channels import bus_url
+        self.assertEqual(bus_url("udpm://239.255.76.67?ttl=1", 1), "udpm://239.255.76.67:8667?ttl=1")
+        self.assertEqual(bus_url("udpm://239.255.76.67:7700?ttl=0&recv_buf_size=9", 2),
+                         "udpm://239.255.76.67:9700?ttl=0&recv_buf_size=9")
+        self.assertEqual(bus_url("memq://", 1), "memq://")
+        with self.assertRaisesRegex(ValueError, "port must be a number"):
+            bus_url("udpm://239.255.76.67:x?ttl=0", 1)
+        spy = [os.path.join(mp.ROOT, "tools/spy.sh"), os.environ["DMPL_BUILD_DIR"], "--bus",
+               BUS_NAMES[1]]
+        env = dict(os.environ, LCM_DEFAULT_URL="udpm://239.255.76.67?ttl=0")
+        env.pop("DISPLAY", None)
+        proc = subprocess.Popen(spy, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                env=env, start_new_session=True)
+        try:
+            said = proc.stdout.readline()
+        finally:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        self.assertIn(f"the {BUS_NAMES[1]} bus, udpm://239.255.76.67:8667?ttl=0", said)
+        bad = subprocess.run(spy, capture_output=True, text=True,
+                             env=dict(env, LCM_DEFAULT_URL="udpm://239.255.76.67:x"))
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("port must be a number", bad.stderr)
+        self.assertNotIn("Traceback", bad.stderr)
+
 
 if __name__ == "__main__":
     sys.exit(unittest.main())
