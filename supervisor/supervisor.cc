@@ -103,8 +103,8 @@ void Supervisor::OnControllerEvents(const std::vector<ControllerEvent>& events) 
       case EventType::kContactLost:
         if (e.finger >= 0 && board_.out.task.fingers[e.finger].role == Role::kGrip &&
             grasp_.is(GraspState::Tasks)) {
-          grasp_.Process(GraspEvent::ContactLost,
-                         {"finger " + board_.fingers[e.finger] + " lost its grip contact", e.finger});
+          grasp_.Process(GraspEvent::ContactLost, {"finger " + board_.fingers[e.finger] +
+                                                       " lost its grip contact", e.finger});
         }
         break;
       case EventType::kTrackingError:

@@ -16,6 +16,7 @@
 #include "components/runtime/lockstep.h"
 #include "components/runtime/node.h"
 #include "components/controller/controller_node.h"
+#include "components/controller/controller_translation.h"
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/finger_targets_t.hpp"
 #include "dmpl/hand_sensors_t.hpp"
@@ -77,19 +78,9 @@ class ControllerNode : public Node {
     if (lockstep_ && m->seq <= gate_.last_tick()) return;  // a copy of a tick already computed
     if (FarAhead("sensed data", m->seq)) return;
     // Kept by seq: with an actuation delay the simulator runs ahead, and the sensed data of
-    // tick k + 1 can arrive while tick k still waits for its task.
-    SensedInput& in = sensed_by_seq_[m->seq];
-    in.q = m->joints.position;
-    in.seq = m->seq;
-    in.time_s = m->utime * 1e-6;
-    in.tips = sensed_.tips;  // fingers the message does not name keep their last reading
-    for (const auto& t : m->tactile.fingers) {
-      const int f = kin_.FindFinger(t.finger);
-      if (f < 0) continue;
-      in.tips[f] = {t.in_contact != 0, ToVector3(t.position), t.force_n};
-    }
-    in.object_valid = m->object.valid;
-    in.object = ToPose(m->object.position, m->object.orientation);
+    // tick k + 1 can arrive while tick k still waits for its task. Fingers the message does not
+    // name keep their last reading.
+    sensed_by_seq_[m->seq] = ToSensedInput(*m, kin_, sensed_.tips);
     while (sensed_by_seq_.size() > 256) sensed_by_seq_.erase(sensed_by_seq_.begin());
     Arrived(kSensorsIn, m->seq);
   }
@@ -110,26 +101,10 @@ class ControllerNode : public Node {
 
   void OnTask(const lcm::ReceiveBuffer*, const std::string&, const task_cmd_t* m) {
     if (FarAhead("task", m->seq)) return;
-    TaskInput t;
-    t.task_id = m->task_id;
-    t.name = m->name;
-    t.has_object_target = m->has_object_target;
-    t.object_target = ToPose(m->object_position, m->object_orientation);
-    t.max_linear_speed = m->max_linear_speed;
-    t.max_angular_speed = m->max_angular_speed;
-    t.fingers.resize(kin_.num_fingers());
-    for (const auto& fp : m->fingers) {
-      const int f = kin_.FindFinger(fp.finger);
-      if (f < 0) {
-        log().warn("task for unknown finger '{}' ignored", fp.finger);
-        continue;
-      }
-      FingerTask& ft = t.fingers[f];
-      ft.role = static_cast<Role>(fp.role);
-      ft.primitive = static_cast<Primitive>(fp.primitive);
-      ft.has_target = fp.has_target;
-      ft.target = ToVector3(fp.target_position);
-      ft.force_n = fp.force_n;
+    std::vector<std::string> unknown;
+    TaskInput t = ToTaskInput(*m, kin_, &unknown);
+    for (const std::string& finger : unknown) {
+      log().warn("task for unknown finger '{}' ignored", finger);
     }
     // Kept by seq: tick k uses the answer to tick k - 1 even if the next one arrives first
     // (a replay on several buses can deliver it early).
@@ -167,61 +142,10 @@ class ControllerNode : public Node {
       forwarded_task_seq_ = task_seq;
     }
     const ControllerOutput& out = core_.Step(sensed_, task_);
-    const int64_t utime = static_cast<int64_t>(sensed_.time_s * 1e6 + 0.5);
-    targets_.utime = utime;
-    targets_.seq = tick;
-    targets_.joint_position = sensed_.q;
-    targets_.num_joints = static_cast<int16_t>(sensed_.q.size());
-    for (size_t f = 0; f < out.fingers.size(); ++f) {
-      finger_target_t& t = targets_.fingers[f];
-      t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;
-      ToArray(out.fingers[f].target, t.position);
-    }
+    FillTargets(out, sensed_, tick, &targets_);
     PublishLoop(channels::kFingerTargets, targets_);
-
-    status_.utime = utime;
-    status_.seq = tick;
-    status_.task_id = out.task_id;
-    status_.motion_done = out.motion_done;
-    status_.grasp_stable = out.grasp_stable;
-    status_.tracking_error_rad = out.tracking_error_rad;
-    status_.grip_force_n = out.grip_force_n;
-    status_.load_scale = out.load_scale;
-    status_.tracking_error_m = out.tracking_error_m;
-    ToArray(Eigen::Vector3d(out.object_estimate.translation()), status_.object_position);
-    ToArray(Eigen::Quaterniond(out.object_estimate.linear()), status_.object_orientation);
-    ToArray(out.contact_centroid, status_.contact_centroid);
-    for (size_t f = 0; f < out.fingers.size(); ++f) {
-      const FingerOutput& o = out.fingers[f];
-      finger_status_t& s = status_.fingers[f];
-      s.role = static_cast<int8_t>(o.role);
-      s.primitive = static_cast<int8_t>(o.primitive);
-      s.in_contact = o.in_contact;
-      s.force_n = o.force;
-      s.desired_force_n = o.desired_force;
-      ToArray(o.tip, s.tip_position);
-      ToArray(o.target, s.target_position);
-      ToArray(o.contact, s.contact_position);
-    }
-    status_.events.clear();
-    for (const ControllerEvent& e : out.events) {
-      controller_event_t ev;
-      ev.type = static_cast<int8_t>(e.type);
-      ev.finger = e.finger >= 0 ? kin_.finger(e.finger).name() : "";
-      ev.value = e.value;
-      ev.text = e.text;
-      status_.events.push_back(ev);
-      if (e.type == EventType::kInputRejected) {
-        ++rejected_;
-        if (LogThisOccurrence(rejected_)) {
-          log().warn("tick {}: {} ({} rejected so far)", tick, e.text, rejected_);
-        }
-        set_status(heartbeat_t::RUNNING, e.text);
-      } else {
-        log().debug("tick {}: {}", tick, e.text);
-      }
-    }
-    status_.num_events = static_cast<int16_t>(status_.events.size());
+    FillStatus(out, tick, targets_.utime, kin_, &status_);
+    LogEvents(tick, out.events);
     PublishRecorded(channels::kControllerStatus, status_);
     // The report: this status with every event since the last one (none may be lost between).
     report_events_.insert(report_events_.end(), status_.events.begin(), status_.events.end());
@@ -233,6 +157,20 @@ class ControllerNode : public Node {
       report_events_.clear();
     }
     set_tick(tick);
+  }
+
+  void LogEvents(int64_t tick, const std::vector<ControllerEvent>& events) {
+    for (const ControllerEvent& e : events) {
+      if (e.type != EventType::kInputRejected) {
+        log().debug("tick {}: {}", tick, e.text);
+        continue;
+      }
+      ++rejected_;
+      if (LogThisOccurrence(rejected_)) {
+        log().warn("tick {}: {} ({} rejected so far)", tick, e.text, rejected_);
+      }
+      set_status(heartbeat_t::RUNNING, e.text);
+    }
   }
 
   bool lockstep_;
