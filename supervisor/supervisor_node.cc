@@ -25,6 +25,7 @@
 #include "dmpl/supervisor_status_t.hpp"
 #include "dmpl/task_cmd_t.hpp"
 #include "supervisor/supervisor.h"
+#include "supervisor/supervisor_translation.h"
 
 namespace dmpl {
 namespace {
@@ -139,47 +140,19 @@ class SupervisorNode : public Node {
   // replay of the journal only rebuilds the state and the last task).
   void Answer(const controller_status_t& m, bool live) {
     answered_any_ = true;
-    ControllerView view;
-    view.seq = m.seq;
-    view.time_s = m.utime * 1e-6;
-    view.fingers.resize(fingers_.size());
-    for (const auto& fs : m.fingers) {
-      const int f = Index(fs.finger);
-      if (f < 0) continue;
-      view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position)};
-    }
-    view.object = ToPose(m.object_position, m.object_orientation);
-    for (const auto& e : m.events) {
-      view.events.push_back({static_cast<EventType>(e.type), Index(e.finger), e.value, e.text});
-    }
-    view.motion_done = m.motion_done;
-    view.grasp_stable = m.grasp_stable;
-    view.tracking_error_rad = m.tracking_error_rad;
+    const ControllerView view = ToControllerView(m, fingers_);
     const size_t logged = core_.transitions().size();
     const int goals_before = core_.goals().reached();
     const SupervisorOutput& out = core_.Step(view);
-    if (live) {
-      for (size_t i = logged; i < core_.transitions().size(); ++i) {
-        log().info("t = {:.3f} s: {}", view.time_s, core_.transitions()[i]);
-      }
-      if (core_.goals().reached() != goals_before) {
-        log().info("t = {:.3f} s: {}", view.time_s, core_.note());
-      }
-    }
     // A request to the simulator rides with the task (task_cmd_t.sim_command): the simulator
     // applies it with the joint command planned from this task, before it steps from tick
     // seq + 1, in every run at the same tick.
-    int8_t sim_command = 0;
-    std::string reason;
-    if (out.sim != SimRequest::kNone) {
-      sim_command = static_cast<int8_t>(out.sim);
-      reason = out.sim == SimRequest::kRelease ? "grasp stable" : core_.note();
-      if (live) {
-        log().info("t = {:.3f} s: asks the simulator to {} ({})", view.time_s, ToString(out.sim),
-                   reason);
-      }
-    }
-    last_task_ = MakeTask(out.task, m.seq, m.utime, sim_command, reason);
+    const std::string reason = out.sim == SimRequest::kNone      ? ""
+                               : out.sim == SimRequest::kRelease ? "grasp stable"
+                                                                 : core_.note();
+    if (live) LogStep(view.time_s, logged, goals_before, out.sim, reason);
+    last_task_ = ToTaskMessage(out.task, fingers_, m.seq, m.utime, out.sim, reason);
+    last_task_.run_id = run_id();
     if (live) {
       PublishLoop(channels::kTask, last_task_);
       if (out.changed || m.seq % params_.status_every_ticks == 0) PublishStatus(m.seq, m.utime);
@@ -189,92 +162,22 @@ class SupervisorNode : public Node {
     set_tick(m.seq);
   }
 
-  // Why a report is not one the controller can have sent (NaN, beyond the hand's physical
-  // range), or empty.
-  static std::string OutOfRange(const controller_status_t& m) {
-    const Eigen::Vector3d object = ToVector3(m.object_position);
-    if (!object.allFinite() || object.norm() > InputBounds::kWorkspaceRadiusM) {
-      return "object estimate outside the hand's workspace";
+  // The transitions a step made, a goal it reached, a request it sends the simulator.
+  void LogStep(double time_s, size_t logged, int goals_before, SimRequest sim,
+               const std::string& reason) {
+    for (size_t i = logged; i < core_.transitions().size(); ++i) {
+      log().info("t = {:.3f} s: {}", time_s, core_.transitions()[i]);
     }
-    for (double q : m.object_orientation) {
-      if (!std::isfinite(q)) return "object orientation with NaN";
+    if (core_.goals().reached() != goals_before) {
+      log().info("t = {:.3f} s: {}", time_s, core_.note());
     }
-    for (const auto& f : m.fingers) {
-      const Eigen::Vector3d tip = ToVector3(f.tip_position);
-      if (!tip.allFinite() || tip.norm() > InputBounds::kWorkspaceRadiusM) {
-        return "finger " + f.finger + " tip outside the hand's workspace";
-      }
-      if (!std::isfinite(f.force_n) || std::abs(f.force_n) > InputBounds::kMaxForceN) {
-        return "finger " + f.finger + " force beyond the sensor's range";
-      }
+    if (sim != SimRequest::kNone) {
+      log().info("t = {:.3f} s: asks the simulator to {} ({})", time_s, ToString(sim), reason);
     }
-    return "";
-  }
-
-  int Index(const std::string& finger) const {
-    for (size_t f = 0; f < fingers_.size(); ++f) {
-      if (fingers_[f] == finger) return static_cast<int>(f);
-    }
-    return -1;
-  }
-
-  task_cmd_t MakeTask(const TaskInput& t, int64_t seq, int64_t utime, int8_t sim_command,
-                      const std::string& reason) const {
-    task_cmd_t m{};
-    m.run_id = run_id();
-    m.sim_command = sim_command;
-    m.sim_command_reason = reason;
-    m.utime = utime;
-    m.seq = seq;
-    m.task_id = t.task_id;
-    m.name = t.name;
-    m.has_object_target = t.has_object_target;
-    ToArray(Eigen::Vector3d(t.object_target.translation()), m.object_position);
-    ToArray(Eigen::Quaterniond(t.object_target.linear()), m.object_orientation);
-    m.max_linear_speed = t.max_linear_speed;
-    m.max_angular_speed = t.max_angular_speed;
-    for (size_t f = 0; f < fingers_.size(); ++f) {
-      finger_primitive_t p{};
-      p.finger = fingers_[f];
-      p.role = static_cast<int8_t>(t.fingers[f].role);
-      p.primitive = static_cast<int8_t>(t.fingers[f].primitive);
-      p.has_target = t.fingers[f].has_target;
-      for (int i = 0; i < 3; ++i) p.target_position[i] = t.fingers[f].target[i];
-      p.force_n = t.fingers[f].force_n;
-      m.fingers.push_back(p);
-    }
-    m.num_fingers = static_cast<int8_t>(m.fingers.size());
-    return m;
   }
 
   void PublishStatus(int64_t seq, int64_t utime) {
-    supervisor_status_t s{};
-    s.utime = utime;
-    s.seq = seq;
-    s.grasp_state = ToString(core_.grasp_state());
-    s.regrasp_state = ToString(core_.regrasp().state());
-    s.last_action = core_.regrasp().last_action();
-    s.task_name = core_.task_name();
-    s.task_index = core_.task_index();
-    s.num_tasks = core_.num_tasks();
-    s.finger = fingers_;
-    for (Role r : core_.roles()) s.role.push_back(static_cast<int8_t>(r));
-    s.num_fingers = static_cast<int8_t>(fingers_.size());
-    s.rotation_commanded_rad = core_.rotation_commanded();
-    s.rotation_goal_rad = core_.rotation_goal();
-    s.regrasps = core_.regrasp().regrasps();
-    s.recoveries = core_.recoveries();
-    s.holding = core_.holding();
-    s.finished = core_.finished();
-    s.failed = core_.failed();
-    s.note = core_.note();
-    const GoalSequence& goals = core_.goals();
-    s.num_goals = goals.size();
-    s.goals_reached = goals.reached();
-    s.has_orientation_goal = !goals.empty();
-    ToArray(goals.empty() ? Eigen::Quaterniond::Identity() : goals.current(), s.orientation_goal);
-    s.goal_error_rad = goals.error_rad();
-    PublishRecorded(channels::kSupervisorStatus, s);
+    PublishRecorded(channels::kSupervisorStatus, ToStatusMessage(core_, seq, utime));
   }
 
   SupervisorParams params_;
