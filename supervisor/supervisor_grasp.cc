@@ -83,7 +83,8 @@ void Supervisor::Approach() {
       // No approach points: the fingers already touch; grip in place.
       board_.SetFinger(f, Role::kGrip, Primitive::kComposite);
     } else {
-      board_.SetFinger(f, Role::kFree, Primitive::kPosition, &it->second);
+      const Eigen::Vector3d point(it->second[0], it->second[1], it->second[2]);
+      board_.SetFinger(f, Role::kFree, Primitive::kPosition, &point);
     }
   }
 }

@@ -75,53 +75,11 @@ struct CTaskYaml {
   }
 };
 
-struct GraspYaml {
-  std::map<std::string, std::array<double, 3>> approach;
-  double approach_extension_m = 0.01;
-  int max_extensions = 3;
-  double release_after_stable_s = 0.2;
-  double settle_s = 0.5;
-  double timeout_s = 10.0;
-  template <typename A>
-  void Serialize(A* a) {
-    a->Visit(DMPL_NVP(approach));
-    a->Visit(DMPL_NVP(approach_extension_m));
-    a->Visit(DMPL_NVP(max_extensions));
-    a->Visit(DMPL_NVP(release_after_stable_s));
-    a->Visit(DMPL_NVP(settle_s));
-    a->Visit(DMPL_NVP(timeout_s));
-  }
-};
-
-struct GaitYaml {
-  std::vector<std::string> order = {"R", "M", "F", "T"};
-  double explore_timeout_s = 3.0;
-  double rotate_timeout_s = 5.0;
-  double grip_timeout_s = 2.0;
-  double settle_tolerance_rad = 0.05;
-  double settle_time_s = 0.3;
-  std::array<double, 3> overlap_about = {1.0, 0.0, 0.0};
-  double overlap_max_tilt_rad = 0.5;
-  double tip_clearance_m = 0.0;
-  template <typename A>
-  void Serialize(A* a) {
-    a->Visit(DMPL_NVP(order));
-    a->Visit(DMPL_NVP(explore_timeout_s));
-    a->Visit(DMPL_NVP(rotate_timeout_s));
-    a->Visit(DMPL_NVP(grip_timeout_s));
-    a->Visit(DMPL_NVP(settle_tolerance_rad));
-    a->Visit(DMPL_NVP(settle_time_s));
-    a->Visit(DMPL_NVP(overlap_about));
-    a->Visit(DMPL_NVP(overlap_max_tilt_rad));
-    a->Visit(DMPL_NVP(tip_clearance_m));
-  }
-};
-
 struct TaskFileYaml {
   std::string name;
-  GraspYaml grasp;
+  GraspSpec grasp;
   std::vector<CTaskYaml> tasks;
-  GaitYaml gait;
+  GaitSpec gait;
   template <typename A>
   void Serialize(A* a) {
     a->Visit(DMPL_NVP(name));
@@ -226,49 +184,25 @@ void CheckFinger(const Checker& c, const std::vector<std::string>& fingers, cons
   }
 }
 
-GraspSpec ParseGrasp(const Checker& c, const GraspYaml& y, const std::vector<std::string>& fingers) {
-  GraspSpec g;
-  for (const auto& [f, p] : y.approach) {
-    CheckFinger(c, fingers, "grasp.approach." + f, f);
-    g.approach[f] = Eigen::Vector3d(p[0], p[1], p[2]);
+// What the bounds of GraspSpec and GaitSpec cannot say: they name the hand's fingers.
+void CheckGrasp(const Checker& c, const GraspSpec& g, const std::vector<std::string>& fingers) {
+  for (const auto& entry : g.approach) {
+    CheckFinger(c, fingers, "grasp.approach." + entry.first, entry.first);
   }
   if (!g.approach.empty() && g.approach.size() != fingers.size()) {
     c.Fail("grasp.approach", "give an approach point for every finger, or none");
   }
-  g.approach_extension_m = y.approach_extension_m;
-  g.max_extensions = y.max_extensions;
-  g.release_after_stable_s = y.release_after_stable_s;
-  g.settle_s = y.settle_s;
-  g.timeout_s = y.timeout_s;
-  return g;
 }
 
-GaitSpec ParseGait(const Checker& c, const GaitYaml& y, const std::vector<std::string>& fingers) {
-  for (const auto& f : y.order) CheckFinger(c, fingers, "gait.order", f);
-  if (y.order.size() != fingers.size()) {
+void CheckGait(const Checker& c, const GaitSpec& g, const std::vector<std::string>& fingers) {
+  for (const auto& f : g.order) CheckFinger(c, fingers, "gait.order", f);
+  if (g.order.size() != fingers.size()) {
     c.Fail("gait.order", "list every finger once (the exploring order)");
   }
-  const auto& about = y.overlap_about;
+  const auto& about = g.overlap_about;
   if (std::sqrt(about[0] * about[0] + about[1] * about[1] + about[2] * about[2]) < 1e-6) {
     c.Fail("gait.overlap_about", "must be a direction (not zero)");
   }
-  if (!(y.overlap_max_tilt_rad >= 0 && y.overlap_max_tilt_rad <= M_PI / 2)) {
-    c.Fail("gait.overlap_max_tilt_rad", "must be in [0, pi/2]");
-  }
-  if (!(y.tip_clearance_m >= 0 && y.tip_clearance_m <= 0.1)) {
-    c.Fail("gait.tip_clearance_m", "must be in [0, 0.1] m");
-  }
-  GaitSpec g;
-  g.order = y.order;
-  g.explore_timeout_s = y.explore_timeout_s;
-  g.rotate_timeout_s = y.rotate_timeout_s;
-  g.grip_timeout_s = y.grip_timeout_s;
-  g.settle_tolerance_rad = y.settle_tolerance_rad;
-  g.settle_time_s = y.settle_time_s;
-  g.overlap_about = about;
-  g.overlap_max_tilt_rad = y.overlap_max_tilt_rad;
-  g.tip_clearance_m = y.tip_clearance_m;
-  return g;
 }
 
 ObjectMotion ParseObjectMotion(const Checker& c, const std::string& key, const MotionYaml& m) {
@@ -329,11 +263,19 @@ TaskFile ParseTaskFile(const YAML::Node& root, const std::string& source,
     throw ConfigError(std::string("task file ") + e.what());
   }
   const Checker c(source);
+  try {
+    CheckBounds(y.grasp, source, "grasp");
+    CheckBounds(y.gait, source, "gait");
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("task file ") + e.what());
+  }
+  CheckGrasp(c, y.grasp, fingers);
+  CheckGait(c, y.gait, fingers);
   TaskFile t;
   t.source = source;
   t.name = y.name.empty() ? source : y.name;
-  t.grasp = ParseGrasp(c, y.grasp, fingers);
-  t.gait = ParseGait(c, y.gait, fingers);
+  t.grasp = y.grasp;
+  t.gait = y.gait;
   if (y.tasks.empty()) c.Fail("tasks", "a task file needs at least one task");
   for (size_t i = 0; i < y.tasks.size(); ++i) {
     t.tasks.push_back(ParseCTask(c, "tasks[" + std::to_string(i) + "]", y.tasks[i], fingers));

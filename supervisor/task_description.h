@@ -70,15 +70,28 @@ struct CTask {
   double timeout_s = 30.0;
 };
 
+// The grasp of Fig. 5 (section `grasp` of a task file).
 struct GraspSpec {
-  std::map<std::string, Eigen::Vector3d> approach;  // finger -> contact point to approach
+  // finger -> contact point to approach (palm frame); none: the fingers already touch
+  std::map<std::string, std::array<double, 3>> approach;
   double approach_extension_m = 0.01;  // reached without touching: reach this much further in
   int max_extensions = 3;
   double release_after_stable_s = 0.2;
   double settle_s = 0.5;
   double timeout_s = 10.0;
+
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(approach));
+    a->Visit(DMPL_NVP(approach_extension_m), InRange(0, 0.1));
+    a->Visit(DMPL_NVP(max_extensions), AtLeast(0));
+    a->Visit(DMPL_NVP(release_after_stable_s), AtLeast(0));
+    a->Visit(DMPL_NVP(settle_s), AtLeast(0));
+    a->Visit(DMPL_NVP(timeout_s), Above(0));
+  }
 };
 
+// The regrasp chart's gait (section `gait` of a task file).
 struct GaitSpec {
   std::vector<std::string> order = {"R", "M", "F", "T"};  // the paper's cycle
   double explore_timeout_s = 3.0;
@@ -96,8 +109,21 @@ struct GaitSpec {
   // The hand's: how far apart two fingertip centres must stay (their spheres' diameter and a
   // margin); 0: not checked. Around a small object the fingers stand close together: a step
   // turns at most what leaves this between an explorer and the finger it slides back toward
-  // (Supervisor::GaitStepLimit), and an explorer's point keeps it from that finger.
+  // (GaitGeometry::StepLimit), and an explorer's point keeps it from that finger.
   double tip_clearance_m = 0.0;
+
+  template <typename A>
+  void Serialize(A* a) {
+    a->Visit(DMPL_NVP(order));
+    a->Visit(DMPL_NVP(explore_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(rotate_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(grip_timeout_s), Above(0));
+    a->Visit(DMPL_NVP(settle_tolerance_rad), Above(0));
+    a->Visit(DMPL_NVP(settle_time_s), AtLeast(0));
+    a->Visit(DMPL_NVP(overlap_about));
+    a->Visit(DMPL_NVP(overlap_max_tilt_rad), InRange(0, 1.5707963267948966));
+    a->Visit(DMPL_NVP(tip_clearance_m), InRange(0, 0.1));
+  }
 };
 
 struct TaskFile {

@@ -67,6 +67,14 @@ TEST(TaskDescriptionTest, BadTaskFilesGiveClearErrors) {
                 .find("object_motion.axis"),
             std::string::npos);
   EXPECT_NE(Error("tasks: 3").find("bad.yaml"), std::string::npos);
+  // The bounds declared beside the grasp's and the gait's fields, naming the file and the key.
+  const std::string tilted = Error("gait: {overlap_max_tilt_rad: 2}\n" + one +
+                                   "done_when: duration, duration_s: 1}]");
+  EXPECT_NE(tilted.find("bad.yaml"), std::string::npos) << tilted;
+  EXPECT_NE(tilted.find("gait.overlap_max_tilt_rad"), std::string::npos) << tilted;
+  EXPECT_NE(Error("grasp: {timeout_s: 0}\n" + one + "done_when: duration, duration_s: 1}]")
+                .find("grasp.timeout_s"),
+            std::string::npos);
 }
 
 }  // namespace
