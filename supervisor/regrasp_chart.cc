@@ -128,73 +128,89 @@ sc::Action RegraspChart::GripAction(int number, int k) {
 }
 
 sc::StateMachine<RegraspState, RegraspEvent> RegraspChart::Build() {
-  using S = RegraspState;
-  using E = RegraspEvent;
-  const sc::Guard exploring("exploring", [this] { return phase_ == Phase::kExploring; });
-  const sc::Guard rotating("rotating", [this] { return phase_ == Phase::kRotating; });
-  const sc::Guard goal("goal reached", [this] { return actions_->GoalReached(); });
-  const std::string all_rotate = "A1 " + Names(fingers_) + " rotate";
-  const sc::Action a1(all_rotate, [this, all_rotate] {
-    last_action_ = all_rotate;
+  std::vector<Row> rows = AllGripRows();
+  for (int k = 0; k < kFingers; ++k) AddFingerRows(k, &rows);
+  return sc::StateMachine<RegraspState, RegraspEvent>("regrasp", RegraspState::S1,
+                                                      std::move(rows));
+}
+
+sc::Action RegraspChart::AllRotateAction() {
+  const std::string name = "A1 " + Names(fingers_) + " rotate";
+  return sc::Action(name, [this, name] {
+    last_action_ = name;
     phase_ = Phase::kRotating;
     grip_turning_ = false;
     actions_->Rotate(fingers_);
   });
+}
+
+// S1's rows before the fingers' own: a local rotation with all four, the goal reached, and
+// (four, auto) the turn with all four after a grip.
+std::vector<RegraspChart::Row> RegraspChart::AllGripRows() {
+  using S = RegraspState;
+  using E = RegraspEvent;
+  const sc::Guard goal("goal reached", [this] { return actions_->GoalReached(); });
   const sc::Action finish("finish", [this] {
     last_action_ = "finish";
     phase_ = Phase::kGripping;
     actions_->Finish();
   });
-  const sc::Action abort("abort step", [this] {
-    last_action_ = "abort step";
-    phase_ = Phase::kGripping;
-  });
-  std::vector<sc::StateMachine<S, E>::Row> rows = {
+  std::vector<Row> rows = {
       // from   event            guard   action  to
-      {S::S1, E::LocalRotate, sc::kAlways, a1, S::S1},
+      {S::S1, E::LocalRotate, sc::kAlways, AllRotateAction(), S::S1},
       {S::S1, E::Begin, goal, finish, S::S1},
       {S::S1, E::GripStable, goal, finish, S::S1},
   };
-  const bool four = turn_ == Turn::kFourFingers, autom = turn_ == Turn::kAuto;
-  const sc::Guard gripping("gripping", [this] { return phase_ == Phase::kGripping; });
-  if (four) {
+  if (turn_ == Turn::kFourFingers) {
     // explore (three hold) -> grip -> all four turn -> the next finger explores.
+    const sc::Guard gripping("gripping", [this] { return phase_ == Phase::kGripping; });
     rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
-    rows.push_back({S::S1, E::GripStable, gripping, a1, S::S1});
+    rows.push_back({S::S1, E::GripStable, gripping, AllRotateAction(), S::S1});
   }
-  if (autom) {
+  if (turn_ == Turn::kAuto) {
     // As four, but after an explore that turned the object too the next finger explores.
     const sc::Guard after_four("gripping, the step not turned", [this] {
       return phase_ == Phase::kGripping && !overlapping_;
     });
     rows.push_back({S::S1, E::RotateDone, goal, finish, S::S1});
-    rows.push_back({S::S1, E::GripStable, after_four, a1, S::S1});
+    rows.push_back({S::S1, E::GripStable, after_four, AllRotateAction(), S::S1});
   }
-  for (int k = 0; k < kFingers; ++k) {
-    const S sk = kExploreState[k];
-    rows.push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    // What ends S1 for the next explorer: a step's turn with four, a grip with three.
-    if (four || autom) {
-      rows.push_back({S::S1, E::RotateDone, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
-    }
-    if (!four) {
-      // Not while a grip turns the object with all four (grip_turns): that ends with RotateDone.
-      const sc::Guard next = NextIs(k);
-      const sc::Guard after_grip(next.name, [this, next] {
-        return !(phase_ == Phase::kRotating && grip_turning_) && next.fn();
-      });
-      rows.push_back({S::S1, E::GripStable, after_grip, ExploreAction(4 + 3 * k, k), sk});
-    }
-    if (turn_ == Turn::kThreeFingers) {
-      rows.push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});
-      rows.push_back({sk, E::RotateDone, rotating, GripAction(3 + 3 * k, k), S::S1});
-    } else {
-      // Four: the explorer is at its point; continuous: and the step's turn is done too.
-      rows.push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
-    }
-    rows.push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
+  return rows;
+}
+
+// The rows of the k-th finger in the exploring order: from S1 into its explore state and back.
+void RegraspChart::AddFingerRows(int k, std::vector<Row>* rows) {
+  using S = RegraspState;
+  using E = RegraspEvent;
+  const bool four = turn_ == Turn::kFourFingers, autom = turn_ == Turn::kAuto;
+  const sc::Guard exploring("exploring", [this] { return phase_ == Phase::kExploring; });
+  const sc::Guard rotating("rotating", [this] { return phase_ == Phase::kRotating; });
+  const sc::Action abort("abort step", [this] {
+    last_action_ = "abort step";
+    phase_ = Phase::kGripping;
+  });
+  const S sk = kExploreState[k];
+  rows->push_back({S::S1, E::Begin, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
+  // What ends S1 for the next explorer: a step's turn with four, a grip with three.
+  if (four || autom) {
+    rows->push_back({S::S1, E::RotateDone, NextIs(k), ExploreAction(4 + 3 * k, k), sk});
   }
-  return sc::StateMachine<S, E>("regrasp", S::S1, std::move(rows));
+  if (!four) {
+    // Not while a grip turns the object with all four (grip_turns): that ends with RotateDone.
+    const sc::Guard next = NextIs(k);
+    const sc::Guard after_grip(next.name, [this, next] {
+      return !(phase_ == Phase::kRotating && grip_turning_) && next.fn();
+    });
+    rows->push_back({S::S1, E::GripStable, after_grip, ExploreAction(4 + 3 * k, k), sk});
+  }
+  if (turn_ == Turn::kThreeFingers) {
+    rows->push_back({sk, E::ExploreReady, exploring, RotateAction(2 + 3 * k, k), sk});
+    rows->push_back({sk, E::RotateDone, rotating, GripAction(3 + 3 * k, k), S::S1});
+  } else {
+    // Four: the explorer is at its point; continuous: and the step's turn is done too.
+    rows->push_back({sk, E::ExploreReady, exploring, GripAction(3 + 3 * k, k), S::S1});
+  }
+  rows->push_back({sk, E::Abort, sc::kAlways, abort, S::S1});
 }
 
 }  // namespace dmpl

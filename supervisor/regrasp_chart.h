@@ -89,7 +89,11 @@ class RegraspChart {
 
  private:
   enum class Phase { kGripping, kExploring, kRotating };
+  using Row = sc::StateMachine<RegraspState, RegraspEvent>::Row;
   sc::StateMachine<RegraspState, RegraspEvent> Build();
+  std::vector<Row> AllGripRows();
+  void AddFingerRows(int k, std::vector<Row>* rows);
+  sc::Action AllRotateAction();
   sc::Guard NextIs(int k);
   sc::Action ExploreAction(int number, int k);
   sc::Action RotateAction(int number, int k);
