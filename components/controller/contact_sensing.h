@@ -1,0 +1,47 @@
+#pragma once
+// What touch tells of the object's surface, from sensed channels only (joints, fingertip
+// contacts): no object model, no simulator.
+//  - A fingertip is a sphere: the surface normal at its contact runs from the contact point to
+//    the sphere's centre, which forward kinematics of the sensed joints gives.
+//  - A finger that touches with a link (not its tip) shows as joint torque that the tip force
+//    does not explain: the servos' efforts plus J^T f of the tip force leave a residual on the
+//    joints up to that link and none beyond it.
+#include <string>
+
+#include <Eigen/Core>
+
+#include "components/hand/hand_model.h"
+#include "components/kinematics/hand_kinematics.h"
+
+namespace dmpl {
+
+struct ContactNormal {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, from the object into the fingertip
+  // |contact - tip centre| - tip radius: how far the sensed point is from the tip's surface (its
+  // noise, or a point that is not on this tip).
+  double off_surface_m = 0.0;
+};
+
+// The normal at a fingertip contact from the tip sphere's centre (forward kinematics) through
+// the sensed contact point.
+ContactNormal NormalFromTip(const Eigen::Vector3d& tip_centre, const Eigen::Vector3d& contact,
+                            double tip_radius);
+
+struct LinkContact {
+  int joint = -1;            // the finger's joint (base first) the contact lies beyond; -1: none
+  std::string link;          // the link after it (URDF name)
+  double torque_nm = 0.0;    // the unexplained torque at that joint
+};
+
+// Finger f's link contact, if any: the outermost joint whose sensed effort, with what the tip
+// force explains (J^T f, f = force * normal on the tip), leaves more than `threshold_nm`.
+// `q` and `effort` are the hand's joint vectors (HandKinematics order); `normal` points from the
+// object into the fingertip (NormalFromTip). The residual also holds what the servo adds for
+// gravity (gravity compensation: a few hundredths of a N m on this hand), which the threshold
+// stays well above.
+LinkContact FindLinkContact(const HandModel& model, const HandKinematics& kin, int f,
+                            const std::vector<double>& q, const std::vector<double>& effort,
+                            double tip_force_n, const Eigen::Vector3d& normal,
+                            double threshold_nm);
+
+}  // namespace dmpl
