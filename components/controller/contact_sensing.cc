@@ -14,7 +14,7 @@ ContactNormal NormalFromTip(const Eigen::Vector3d& tip_centre, const Eigen::Vect
   return c;
 }
 
-LinkContact FindLinkContact(const HandModel& model, const HandKinematics& kin, int f,
+LinkContact FindLinkContact(const HandKinematics& kin, int f,
                             const std::vector<double>& q, const std::vector<double>& effort,
                             double tip_force_n, const Eigen::Vector3d& normal,
                             double threshold_nm) {
@@ -31,8 +31,7 @@ LinkContact FindLinkContact(const HandModel& model, const HandKinematics& kin, i
     if (std::abs(residual) <= threshold_nm) continue;
     contact.joint = j;
     contact.torque_nm = residual;
-    const int actuated = model.fingers()[f].joints[j];
-    contact.link = model.links()[model.actuated_joint(actuated).child_link].name;
+    contact.link = kin.finger(f).LinkAfterJoint(j);
     break;
   }
   return contact;

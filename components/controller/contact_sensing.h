@@ -10,7 +10,6 @@
 
 #include <Eigen/Core>
 
-#include "components/hand/hand_model.h"
 #include "components/kinematics/hand_kinematics.h"
 
 namespace dmpl {
@@ -39,7 +38,7 @@ struct LinkContact {
 // object into the fingertip (NormalFromTip). The residual also holds what the servo adds for
 // gravity (gravity compensation: a few hundredths of a N m on this hand), which the threshold
 // stays well above.
-LinkContact FindLinkContact(const HandModel& model, const HandKinematics& kin, int f,
+LinkContact FindLinkContact(const HandKinematics& kin, int f,
                             const std::vector<double>& q, const std::vector<double>& effort,
                             double tip_force_n, const Eigen::Vector3d& normal,
                             double threshold_nm);

@@ -105,6 +105,10 @@ struct ControllerParams {
   double target_tolerance_m = 0.002;
   // Contacts and events.
   double contact_threshold_n = 0.03;     // sensed force above which a fingertip touches
+  // Joint torque (N m) the tip force does not explain above which a finger touches with a link
+  // (LINK_CONTACT events; 0: not checked). The servos' gravity compensation leaves a few
+  // hundredths; a link pressed on the object, tenths (docs/benchmarks.md).
+  double link_contact_torque_nm = 0.15;
   int contact_debounce_ticks = 5;        // a new contact must persist this long...
   int contact_loss_ticks = 40;           // ...a loss this long (rolling contacts flicker)
   double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
@@ -153,6 +157,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(approach_speed), Above(0));
     a->Visit(DMPL_NVP(target_tolerance_m));
     a->Visit(DMPL_NVP(contact_threshold_n));
+    a->Visit(DMPL_NVP(link_contact_torque_nm), AtLeast(0));
     a->Visit(DMPL_NVP(contact_debounce_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(contact_loss_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(motion_done_rad));

@@ -8,6 +8,7 @@ SensedInput ToSensedInput(const hand_sensors_t& m, const HandKinematics& kin,
                           const std::vector<SensedTip>& previous) {
   SensedInput in;
   in.q = m.joints.position;
+  in.effort = m.joints.effort;
   in.seq = m.seq;
   in.time_s = m.utime * 1e-6;
   in.tips = previous;

@@ -23,6 +23,7 @@ struct SensedInput {
   int64_t seq = 0;
   double time_s = 0.0;
   std::vector<double> q;           // hand joint vector
+  std::vector<double> effort;      // the servos' joint torques, N m (empty: not sensed)
   std::vector<SensedTip> tips;     // per finger (kinematics order)
   bool object_valid = false;
   Eigen::Isometry3d object = Eigen::Isometry3d::Identity();
@@ -56,6 +57,7 @@ enum class EventType : int8_t {
   kTargetReached = 7,
   kGraspLost = 8,
   kSlip = 9,
+  kLinkContact = 10,  // a finger touches with a link, not its tip (value: the torque, N m)
 };
 
 struct ControllerEvent {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "components/controller/contact_sensing.h"
 #include "components/controller/position_planner.h"
 #include "components/runtime/check.h"
 
@@ -145,6 +146,37 @@ void ManipulationController::UpdateContacts(const SensedInput& in) {
   has_contacts_ = true;
 }
 
+void ManipulationController::DetectLinkContacts(const SensedInput& in,
+                                                const std::vector<Eigen::Vector3d>& tips) {
+  const double threshold = params_.link_contact_torque_nm;
+  if (threshold <= 0 || in.effort.size() != in.q.size()) return;
+  for (const double tau : in.effort) {
+    if (!std::isfinite(tau)) return;  // not a reading to act on
+  }
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    const SensedTip& tip = in.tips[f];
+    // The normal's direction needs no tip radius.
+    const Eigen::Vector3d normal =
+        tip.in_contact ? NormalFromTip(tips[f], tip.position, 0.0).normal : Eigen::Vector3d::Zero();
+    const LinkContact link = FindLinkContact(kin_, f, in.q, in.effort,
+                                             tip.in_contact ? tip.force : 0.0, normal, threshold);
+    FingerState& s = fingers_[f];
+    const bool raw = link.joint >= 0;
+    if (raw == s.on_link) {
+      s.link_count = 0;
+      continue;
+    }
+    if (++s.link_count < params_.contact_debounce_ticks) continue;
+    s.on_link = raw;
+    s.link_count = 0;
+    if (raw) {
+      Emit(EventType::kLinkContact, f, link.torque_nm,
+           kin_.finger(f).name() + " touches with its link " + link.link + " (" +
+               std::to_string(link.torque_nm) + " N m its tip does not explain)");
+    }
+  }
+}
+
 void ManipulationController::ApplyTask(const TaskInput& task,
                                        const std::vector<Eigen::Vector3d>& tips) {
   const bool new_task = task.task_id != task_id_;
@@ -248,6 +280,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
   AdvanceClock(in.time_s);
   const std::vector<Eigen::Vector3d> tips = TipPositions(in.q);
   UpdateContacts(in);
+  DetectLinkContacts(in, tips);
   const SensedInput located = LocateContacts(in, tips);
   UpdateObjectEstimate(in);
   ApplyTask(task, tips);

@@ -45,6 +45,8 @@ class ManipulationController {
     FingerTask task;
     bool contact = false;        // debounced
     int contact_count = 0;       // ticks the raw contact has disagreed with `contact`
+    bool on_link = false;        // debounced: touches with a link (DetectLinkContacts)
+    int link_count = 0;          // ticks the raw link contact has disagreed with `on_link`
     double integral = 0.0;       // force PI integrator (m)
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
     bool has_target = false;
@@ -86,6 +88,9 @@ class ManipulationController {
   void ApplyTask(const TaskInput& task, const std::vector<Eigen::Vector3d>& tips);
   void UpdateObjectEstimate(const SensedInput& in);
   void UpdateContacts(const SensedInput& in);
+  // A finger that touches with a link (not its tip): joint torque its tip force does not
+  // explain (contact_sensing.h); an event when it begins.
+  void DetectLinkContacts(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips);
   Eigen::Isometry3d AdvanceReference();
   GripPlan PlanGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips, bool moving);
   void AdaptGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips,

@@ -20,6 +20,11 @@ FingerKinematics::FingerKinematics(std::string name, const KDL::Chain& chain,
       q_kdl_(chain_->getNrOfJoints()),
       jac_kdl_(chain_->getNrOfJoints()) {
   DMPL_DEMAND(static_cast<int>(chain_->getNrOfJoints()) == lower_.size());
+  for (const KDL::Segment& segment : chain_->segments) {
+    if (segment.getJoint().getType() != KDL::Joint::None) {
+      links_after_joints_.push_back(segment.getName());
+    }
+  }
 }
 
 Eigen::Vector3d FingerKinematics::TipPosition(const Eigen::VectorXd& q) const {

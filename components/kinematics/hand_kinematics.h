@@ -27,11 +27,14 @@ class FingerKinematics {
   Eigen::Vector3d TipPosition(const Eigen::VectorXd& q) const;
   // Tip position and its 3 x n position Jacobian.
   void TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Matrix3Xd* jac) const;
+  // The link that joint j (0: the base) moves, as the URDF names it.
+  const std::string& LinkAfterJoint(int j) const { return links_after_joints_[j]; }
 
  private:
   std::string name_;
   std::unique_ptr<KDL::Chain> chain_;  // on the heap: KDL's solvers keep a reference to it
   Eigen::VectorXd lower_, upper_;
+  std::vector<std::string> links_after_joints_;
   std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;
   std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
   mutable KDL::JntArray q_kdl_;

@@ -59,12 +59,12 @@ TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouch
     // penetration is a fraction of a millimetre: the two normals agree within a degree or two.
     EXPECT_LT(angle, 2.0 * M_PI / 180) << kin.finger(f).name();
     EXPECT_LT(std::abs(n.off_surface_m), 1e-3) << kin.finger(f).name();
-    const LinkContact link = FindLinkContact(model, kin, f, joints.position, joints.effort,
+    const LinkContact link = FindLinkContact(kin, f, joints.position, joints.effort,
                                              tip.force, n.normal, 0.1);
     EXPECT_EQ(link.joint, -1) << kin.finger(f).name() << ": " << link.link << " "
                               << link.torque_nm << " N m";
     // The check can tell: the tip force taken the wrong way round leaves twice J^T f.
-    EXPECT_NE(FindLinkContact(model, kin, f, joints.position, joints.effort, tip.force,
+    EXPECT_NE(FindLinkContact(kin, f, joints.position, joints.effort, tip.force,
                               -n.normal, 0.1)
                   .joint,
               -1)

@@ -48,21 +48,21 @@ class LinkContactTest : public ::testing::Test {
 TEST_F(LinkContactTest, ATipContactIsNotMistakenForALinkContact) {
   const Eigen::Vector3d normal = Eigen::Vector3d(-1, 0, -0.3).normalized();
   const std::vector<double> effort = Holding(2.0, normal, Eigen::Vector4d::Zero());
-  EXPECT_EQ(FindLinkContact(model_, kin_, kF, q_, effort, 2.0, normal, 0.1).joint, -1);
+  EXPECT_EQ(FindLinkContact(kin_, kF, q_, effort, 2.0, normal, 0.1).joint, -1);
 }
 
 TEST_F(LinkContactTest, ALinkContactIsFoundAndNamed) {
   const Eigen::Vector3d normal = Eigen::Vector3d(-1, 0, -0.3).normalized();
   // 0.3 N m on the abduction and the first flexion joint: a push on the proximal link.
   const std::vector<double> effort = Holding(1.0, normal, Eigen::Vector4d(0.1, 0.3, 0, 0));
-  const LinkContact c = FindLinkContact(model_, kin_, kF, q_, effort, 1.0, normal, 0.1);
+  const LinkContact c = FindLinkContact(kin_, kF, q_, effort, 1.0, normal, 0.1);
   EXPECT_EQ(c.joint, 1);
   EXPECT_NEAR(c.torque_nm, 0.3, 1e-9);
   const int joint = model_.fingers()[kF].joints[1];
   EXPECT_EQ(c.link, model_.links()[model_.actuated_joint(joint).child_link].name);
   // With no tip contact at all (the tip reads 0 N) the same push is found too.
   const std::vector<double> alone = Holding(0.0, normal, Eigen::Vector4d(0.1, 0.3, 0.2, 0));
-  EXPECT_EQ(FindLinkContact(model_, kin_, kF, q_, alone, 0.0, normal, 0.1).joint, 2);
+  EXPECT_EQ(FindLinkContact(kin_, kF, q_, alone, 0.0, normal, 0.1).joint, 2);
 }
 
 }  // namespace
