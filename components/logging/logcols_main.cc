@@ -46,9 +46,9 @@ int main(int argc, char** argv) {
                    static_cast<long long>(columns.rejected()),
                    reader.truncated() ? ", the last event is truncated" : "");
     }
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // a log it cannot read, a directory it cannot write
     std::fprintf(stderr, "dmpl_logcols: %s\n", e.what());
-    return 1;
+    return 2;
   }
   return 0;
 }

@@ -192,7 +192,7 @@ class Executor {
   Executor(LcmBus* bus, double heartbeat_period_s);
   void Add(Node* node);
   // Handles LCM traffic and timers until a stop signal or a node asks to exit. Returns the exit
-  // code: 0, a node's code, or 128+signal after SIGINT/SIGTERM.
+  // code: the largest a node asked for, else 0 (a stop signal included: how a node ends).
   int Spin();
 
  private:

@@ -50,7 +50,10 @@ int main(int argc, char** argv) {
       ->check(dmpl::IntegerAtLeast(1));
   if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   lcm::LCM lcm;
-  if (!lcm.good()) return 3;
+  if (!lcm.good()) {
+    std::fprintf(stderr, "dmpl_bench_lcm_hop: cannot open LCM (is there a multicast route?)\n");
+    return 3;
+  }
   if (echo_mode->parsed()) {
     Echo echo{&lcm};
     lcm.subscribe("DMPL_BENCH_PING", &Echo::On, &echo);

@@ -136,6 +136,7 @@ def main(argv=None):
     ap.add_argument("--json", help="write the result here too")
     ap.add_argument("--rounds", type=int, help="alternating rounds (default: sim 3, loop 5)")
     args = ap.parse_args(argv)
+    from .lcm_url import LcmUnavailable
     from .process_set import SetError
     try:
         if args.what == "sim":
@@ -149,6 +150,9 @@ def main(argv=None):
     except SetError as e:  # e.g. another run on the URL the loop benchmark needs
         print(f"dmpl bench: error: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl bench: error: {e}", file=sys.stderr)
+        return 3
     text = json.dumps(result, indent=2)
     print(text)
     if args.json:
