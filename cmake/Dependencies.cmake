@@ -12,6 +12,8 @@ target_link_libraries(dmpl_orocos_kdl INTERFACE ${orocos_kdl_LIBRARIES} Eigen3::
 find_package(urdfdom REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(spdlog REQUIRED)
+# Header-only: every executable's command line (components/runtime/command_line.h).
+find_package(CLI11 CONFIG REQUIRED)
 find_package(GTest REQUIRED)
 find_package(benchmark REQUIRED)
 find_package(Threads REQUIRED)

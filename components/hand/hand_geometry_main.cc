@@ -3,12 +3,12 @@
 // their origins and axes. The viewer draws from it, so the picture and the physics share one
 // parser. Exit 2 with one message on a bad config or URDF.
 #include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <string>
 
 #include "components/hand/hand_model.h"
 #include "components/logging/json_text.h"
+#include "components/runtime/command_line.h"
 #include "components/runtime/config.h"
 
 namespace {
@@ -68,15 +68,13 @@ void Print(const dmpl::HandModel& hand) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"dmpl_hand_geometry: the hand model of a config (links, shapes, joints) as JSON",
+               "dmpl_hand_geometry"};
   std::string config_path;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--config") == 0 && i + 1 < argc) {
-      config_path = argv[++i];
-    } else {
-      std::cerr << "usage: dmpl_hand_geometry --config FILE\n";
-      return 2;
-    }
-  }
+  app.add_option("--config", config_path, "the config whose hand section is read (default: the "
+                                          "default hand)")
+      ->type_name("FILE");
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   try {
     const dmpl::Config config = dmpl::Config::Resolve(config_path, {}, {});
     dmpl::HandParams params;

@@ -1,16 +1,18 @@
 // dmpl_bench_ik: one four-finger IK solve (Google Benchmark), tracking targets that move like a
 // manipulation does (a few mm per second), warm started as in the IK server.
 // `dmpl_bench_ik --percentiles N` times N solves one by one and prints JSON with the median and
-// p99 (what `tools/dmpl bench ik` reports); any other arguments go to Google Benchmark.
+// p99 (what `tools/dmpl bench ik` reports); Google Benchmark's flags go to Google Benchmark.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
+#include <string>
+#include <vector>
 
 #include "components/ik/hand_ik.h"
+#include "components/runtime/command_line.h"
 
 namespace {
 
@@ -72,8 +74,25 @@ int Percentiles(int n) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc == 3 && std::strcmp(argv[1], "--percentiles") == 0) return Percentiles(std::atoi(argv[2]));
-  benchmark::Initialize(&argc, argv);
+  CLI::App app{"dmpl_bench_ik: one four-finger IK solve, timed (Google Benchmark)",
+               "dmpl_bench_ik"};
+  int solves = 0;
+  app.add_option("--percentiles", solves,
+                 "time N solves one by one and print their median and p99 as JSON")
+      ->type_name("N")
+      ->check(dmpl::IntegerAtLeast(1));
+  app.allow_extras();
+  app.footer("Google Benchmark's own flags (--benchmark_filter=REGEX, ...) are passed on to it.");
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
+  // What CLI11 did not take goes to Google Benchmark, which refuses what it does not know.
+  std::string program = app.get_name();
+  std::vector<std::string> extras = app.remaining();
+  std::vector<char*> bench_argv = {program.data()};
+  for (std::string& arg : extras) bench_argv.push_back(arg.data());
+  int bench_argc = static_cast<int>(bench_argv.size());
+  benchmark::Initialize(&bench_argc, bench_argv.data());
+  if (benchmark::ReportUnrecognizedArguments(bench_argc, bench_argv.data())) return 2;
+  if (solves > 0) return Percentiles(solves);
   benchmark::RunSpecifiedBenchmarks();
   return 0;
 }

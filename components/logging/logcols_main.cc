@@ -8,34 +8,20 @@
 
 #include "components/logging/event_log_reader.h"
 #include "components/logging/log_columns.h"
+#include "components/runtime/command_line.h"
 
 int main(int argc, char** argv) {
+  CLI::App app{"dmpl_logcols: one pass over an LCM log -> the column files of its channels",
+               "dmpl_logcols"};
   std::string log_path, dir, channels = ".*", fields = ".*";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--channels" && i + 1 < argc) {
-      channels = argv[++i];
-    } else if (arg == "--fields" && i + 1 < argc) {
-      fields = argv[++i];
-    } else if (arg == "-h" || arg == "--help") {
-      std::printf("usage: dmpl_logcols LOG DIR [--channels REGEX] [--fields REGEX]\n");
-      return 0;
-    } else if (arg.rfind("--", 0) == 0) {
-      std::fprintf(stderr, "dmpl_logcols: unexpected argument '%s' (try --help)\n", arg.c_str());
-      return 2;
-    } else if (log_path.empty()) {
-      log_path = arg;
-    } else if (dir.empty()) {
-      dir = arg;
-    } else {
-      std::fprintf(stderr, "dmpl_logcols: too many arguments (try --help)\n");
-      return 2;
-    }
-  }
-  if (dir.empty()) {
-    std::fprintf(stderr, "dmpl_logcols: expected LOG and DIR (try --help)\n");
-    return 2;
-  }
+  app.add_option("LOG", log_path, "the LCM log to read")->required();
+  app.add_option("DIR", dir, "where the column files and meta.json go")->required();
+  app.add_option("--channels", channels, "the channels to extract (a regex; default all)")
+      ->type_name("REGEX");
+  app.add_option("--fields", fields, "the fields to extract, as CHANNEL/name (a regex; default "
+                                     "all)")
+      ->type_name("REGEX");
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   try {
     dmpl::EventLogReader reader(log_path);
     dmpl::LogColumns columns(dir, channels, fields);
@@ -60,9 +46,9 @@ int main(int argc, char** argv) {
                    static_cast<long long>(columns.rejected()),
                    reader.truncated() ? ", the last event is truncated" : "");
     }
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // a log it cannot read, a directory it cannot write
     std::fprintf(stderr, "dmpl_logcols: %s\n", e.what());
-    return 1;
+    return 2;
   }
   return 0;
 }

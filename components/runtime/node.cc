@@ -14,6 +14,7 @@
 
 #include "components/runtime/channels.h"
 #include "components/runtime/clock.h"
+#include "components/runtime/command_line.h"
 #include "dmpl/heartbeat_t.hpp"
 #include "dmpl/record_ledger_t.hpp"
 
@@ -251,52 +252,34 @@ int Executor::Spin() {
   return code;
 }
 
-NodeCommandLine ParseNodeCommandLine(int argc, char** argv) {
-  NodeCommandLine cl;
-  auto need_value = [&](int& i, const std::string& flag) -> std::string {
-    if (i + 1 >= argc) throw ConfigError("command line: " + flag + " needs a value");
-    return argv[++i];
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--config") {
-      cl.config_file = need_value(i, arg);
-    } else if (arg == "--params") {
-      cl.params_files.push_back(need_value(i, arg));
-    } else if (arg == "--set") {
-      cl.set_overrides.push_back(need_value(i, arg));
-    } else if (arg == "--lcm-url") {
-      cl.lcm_url = need_value(i, arg);
-    } else if (arg == "--name") {
-      cl.name = need_value(i, arg);
-    } else if (arg == "--print-config") {
-      cl.print_config = true;
-    } else if (arg == "--check") {
-      cl.check = true;
-    } else if (arg == "--help" || arg == "-h") {
-      cl.help = true;
-    } else if (arg.rfind("--", 0) == 0) {
-      throw ConfigError("command line: unknown option '" + arg + "' (try --help)");
-    } else {
-      cl.positional.push_back(arg);
-    }
-  }
-  return cl;
+void AddConfigFlags(CLI::App& app, NodeCommandLine* cl) {
+  app.add_option("--config", cl->config_file, "the config or experiment file (YAML)")
+      ->type_name("FILE");
+  // One value per flag: a word after it is not a second value.
+  app.add_option("--params", cl->params_files,
+                 "a parameter file laid over the config (repeatable, in order)")
+      ->type_name("FILE")
+      ->allow_extra_args(false);
+  app.add_option("--set", cl->set_overrides,
+                 "one key of the config overridden, e.g. run.seed=3 (repeatable)")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
 }
 
-int RunNodeMain(int argc, char** argv, const NodeInfo& info) {
+void AddNodeFlags(CLI::App& app, NodeCommandLine* cl) {
+  AddConfigFlags(app, cl);
+  app.add_option("--lcm-url", cl->lcm_url, "the LCM URL (default: run.lcm_url, $LCM_DEFAULT_URL)")
+      ->type_name("URL");
+  app.add_option("--name", cl->name, "the node's name in heartbeats and logs")
+      ->type_name("NAME");
+  app.add_flag("--print-config", cl->print_config, "print the resolved config as YAML and exit");
+  app.add_flag("--check", cl->check, "validate the config, build the node, and exit");
+}
+
+int RunNode(const NodeCommandLine& cl, const NodeInfo& info) {
   const std::string default_name = info.name;
   NodeContext ctx;
-  NodeCommandLine cl;
   try {
-    cl = ParseNodeCommandLine(argc, argv);
-    if (cl.help) {
-      std::cout << "usage: " << default_name
-                << " [--config FILE] [--params FILE]... [--set key=value]... [--lcm-url URL]"
-                   " [--name NAME] [--print-config] [--check]\n"
-                << "Reads sections: " << info.reads << ".\n";
-      return 0;
-    }
     ctx.name = cl.name.empty() ? default_name : cl.name;
     ctx.config = Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
     ctx.config.Load("run", &ctx.run);
@@ -341,6 +324,16 @@ int RunNodeMain(int argc, char** argv, const NodeInfo& info) {
             cpu.ru_utime.tv_sec + cpu.ru_utime.tv_usec * 1e-6,
             cpu.ru_stime.tv_sec + cpu.ru_stime.tv_usec * 1e-6);
   return code;
+}
+
+int RunNodeMain(int argc, char** argv, const NodeInfo& info) {
+  CLI::App app{std::string(info.name) + ": a node of the dmpl loop; it reads the config sections " +
+                   info.reads,
+               info.name};
+  NodeCommandLine cl;
+  AddNodeFlags(app, &cl);
+  if (const auto code = ParseCommandLine(app, argc, argv)) return *code;
+  return RunNode(cl, info);
 }
 
 }  // namespace dmpl

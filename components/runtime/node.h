@@ -25,6 +25,10 @@
 #include "components/runtime/resend.h"
 #include "dmpl/record_receipt_t.hpp"
 
+namespace CLI {
+class App;
+}
+
 namespace dmpl {
 
 struct NodeContext;
@@ -188,7 +192,7 @@ class Executor {
   Executor(LcmBus* bus, double heartbeat_period_s);
   void Add(Node* node);
   // Handles LCM traffic and timers until a stop signal or a node asks to exit. Returns the exit
-  // code: 0, a node's code, or 128+signal after SIGINT/SIGTERM.
+  // code: the largest a node asked for, else 0 (a stop signal included: how a node ends).
   int Spin();
 
  private:
@@ -212,7 +216,7 @@ int StopSignal();
 // A logger named after the process (spdlog), level from $DMPL_LOG_LEVEL (default info).
 std::shared_ptr<spdlog::logger> MakeLogger(const std::string& name);
 
-// The command line every node understands:
+// The command line every node understands (AddNodeFlags):
 //   --config FILE  --params FILE (overlay, repeatable)  --set key=value (repeatable)
 //   --lcm-url URL  --name NAME  --print-config  --check  --help
 struct NodeCommandLine {
@@ -223,10 +227,12 @@ struct NodeCommandLine {
   std::string name;
   bool print_config = false;
   bool check = false;  // validate the configuration, build the node, exit
-  bool help = false;
-  std::vector<std::string> positional;
 };
-NodeCommandLine ParseNodeCommandLine(int argc, char** argv);
+// Adds the flags that say which configuration to resolve (--config, --params, --set) to `app`
+// (components/runtime/command_line.h parses it), for tools that resolve a config as nodes do.
+void AddConfigFlags(CLI::App& app, NodeCommandLine* cl);
+// Adds every flag of a node's command line to `app`.
+void AddNodeFlags(CLI::App& app, NodeCommandLine* cl);
 
 // Everything a node factory gets.
 struct NodeContext {
@@ -245,8 +251,10 @@ struct NodeInfo {
   std::unique_ptr<Node> (*make)(const NodeContext&);
 };
 
-// main() of a single-node process: parses the command line, resolves the config (clear errors,
-// exit 2), opens LCM, builds the node, spins.
+// Runs the node of a parsed command line: resolves the config (clear errors, exit 2), opens LCM,
+// builds the node, spins. Returns the exit code (README, "Exit codes").
+int RunNode(const NodeCommandLine& cl, const NodeInfo& node);
+// main() of a single-node process: parses the command line (AddNodeFlags), then RunNode.
 int RunNodeMain(int argc, char** argv, const NodeInfo& node);
 
 }  // namespace dmpl

@@ -7,23 +7,25 @@
 #include <vector>
 
 #include "components/runtime/clock.h"
+#include "components/runtime/command_line.h"
 #include "components/runtime/config.h"
 #include "sim_process/joint_player/joint_trajectory.h"
 #include "sim_process/sim/hand_sim.h"
 
 int main(int argc, char** argv) {
+  CLI::App app{"dmpl_bench_sim: wall time of one simulation step of the hand holding an object",
+               "dmpl_bench_sim"};
   std::string config_file;
   int warmup = 500, steps = 3000;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string arg = argv[i];
-    if (arg == "--config") config_file = argv[i + 1];
-    else if (arg == "--warmup") warmup = std::stoi(argv[i + 1]);
-    else if (arg == "--steps") steps = std::stoi(argv[i + 1]);
-    else {
-      std::fprintf(stderr, "dmpl_bench_sim: unknown option %s\n", arg.c_str());
-      return 2;
-    }
-  }
+  app.add_option("--config", config_file, "the scene (e.g. configs/bench/sim_hold.yaml)")
+      ->type_name("FILE");
+  app.add_option("--warmup", warmup, "steps run before timing (default 500)")
+      ->type_name("N")
+      ->check(dmpl::IntegerAtLeast(0));
+  app.add_option("--steps", steps, "steps timed (default 3000)")
+      ->type_name("N")
+      ->check(dmpl::IntegerAtLeast(1));
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   try {
     const dmpl::Config config = dmpl::Config::Resolve(config_file, {}, {});
     dmpl::HandParams hand_params;

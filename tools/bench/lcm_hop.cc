@@ -6,10 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
+
+#include "components/runtime/command_line.h"
 
 namespace {
 
@@ -34,24 +35,31 @@ struct Ping {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: dmpl_bench_lcm_hop echo | ping [--bytes B] [--n N]\n");
-    return 2;
-  }
+  CLI::App app{"dmpl_bench_lcm_hop: the one-way LCM latency between two processes, as half a "
+               "ping-pong's round trip (on $LCM_DEFAULT_URL)",
+               "dmpl_bench_lcm_hop"};
+  app.require_subcommand(1);
+  CLI::App* echo_mode = app.add_subcommand("echo", "answer every ping (in another process)");
+  CLI::App* ping_mode = app.add_subcommand("ping", "ping and print the latency as JSON");
+  int bytes = 600, n = 5000;
+  ping_mode->add_option("--bytes", bytes, "the message's size (default 600)")
+      ->type_name("B")
+      ->check(dmpl::IntegerAtLeast(1));
+  ping_mode->add_option("--n", n, "round trips timed (default 5000)")
+      ->type_name("N")
+      ->check(dmpl::IntegerAtLeast(1));
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   lcm::LCM lcm;
-  if (!lcm.good()) return 3;
-  const std::string mode = argv[1];
-  if (mode == "echo") {
+  if (!lcm.good()) {
+    std::fprintf(stderr, "dmpl_bench_lcm_hop: cannot open LCM (is there a multicast route?)\n");
+    return 3;
+  }
+  if (echo_mode->parsed()) {
     Echo echo{&lcm};
     lcm.subscribe("DMPL_BENCH_PING", &Echo::On, &echo);
     while (lcm.handleTimeout(5000) > 0) {
     }
     return 0;  // 5 s without a ping: done
-  }
-  int bytes = 600, n = 5000;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    if (std::strcmp(argv[i], "--bytes") == 0) bytes = std::atoi(argv[i + 1]);
-    if (std::strcmp(argv[i], "--n") == 0) n = std::atoi(argv[i + 1]);
   }
   Ping ping;
   lcm.subscribe("DMPL_BENCH_PONG", &Ping::On, &ping);

@@ -17,9 +17,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "components/controller/controller_params.h"
+#include "components/runtime/command_line.h"
 #include "components/runtime/config.h"
 #include "tools/calibrate/fits.h"
 
@@ -58,28 +60,21 @@ struct CommandLine {
   std::string out, report_path, config_path;
 };
 
-constexpr int kContinue = -1;  // ParseCommandLine: go on; otherwise the exit code
-
-int ParseCommandLine(int argc, char** argv, CommandLine* cl) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if ((arg == "--out" || arg == "--report" || arg == "--config") && i + 1 < argc) {
-      (arg == "--out" ? cl->out : arg == "--report" ? cl->report_path : cl->config_path) = argv[++i];
-    } else if (arg == "-h" || arg == "--help") {
-      std::cout << "usage: tools/dmpl calibrate LOG... [--out FILE] [--report FILE] "
-                   "[--config FILE]\n";
-      return 0;
-    } else if (arg.rfind("--", 0) == 0) {
-      std::cerr << "dmpl calibrate: unknown option '" << arg << "'\n";
-      return 2;
-    } else {
-      cl->logs.push_back(arg);
-    }
-  }
-  if (cl->logs.empty()) {
-    std::cerr << "dmpl calibrate: give at least one LOG\n";
-    return 2;
-  }
+// Parses the command line into `cl`; the exit code when the process is to exit now.
+std::optional<int> ParseCommandLine(int argc, char** argv, CommandLine* cl) {
+  CLI::App app{"dmpl calibrate: tactile sensors, object surface, finger force response and force "
+               "PI gains, fitted with Ceres from recorded logs",
+               "dmpl calibrate"};
+  app.add_option("LOG", cl->logs, "recorded LCM logs of simulation runs")->required();
+  app.add_option("--out", cl->out, "the parameter overlay written (default calibration.yaml)")
+      ->type_name("FILE");
+  app.add_option("--report", cl->report_path, "the Markdown report written (default FILE.md)")
+      ->type_name("FILE");
+  app.add_option("--config", cl->config_path,
+                 "the config the logs were recorded with (default: config.yaml next to the "
+                 "first LOG)")
+      ->type_name("FILE");
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return code;
   if (cl->out.empty()) cl->out = "calibration.yaml";
   if (cl->report_path.empty()) cl->report_path = cl->out + ".md";
   // The gains the logs were recorded with: the run's config, next to its log.
@@ -87,7 +82,7 @@ int ParseCommandLine(int argc, char** argv, CommandLine* cl) {
     const auto guess = std::filesystem::path(cl->logs.front()).parent_path() / "config.yaml";
     if (std::filesystem::exists(guess)) cl->config_path = guess.string();
   }
-  return kContinue;
+  return std::nullopt;
 }
 
 // Every fit, in the order the overlay reads them: force, contact offset, surface, then (when the
@@ -187,7 +182,7 @@ bool WriteFile(const std::string& path, const std::string& text) {
 
 int main(int argc, char** argv) {
   CommandLine cl;
-  if (const int code = ParseCommandLine(argc, argv, &cl); code != kContinue) return code;
+  if (const auto code = ParseCommandLine(argc, argv, &cl)) return *code;
   dmpl::ControllerParams current;
   Fits fits;
   try {

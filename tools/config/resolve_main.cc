@@ -6,16 +6,18 @@
 // Exit 0 with the YAML on stdout, or 2 with one line on stderr naming the file and the key.
 #include <iostream>
 
+#include "components/runtime/command_line.h"
 #include "components/runtime/config.h"
 #include "components/runtime/node.h"
 
 int main(int argc, char** argv) {
+  CLI::App app{"dmpl_config: the resolved configuration of an experiment, as YAML",
+               "dmpl_config"};
+  dmpl::NodeCommandLine cl;
+  dmpl::AddConfigFlags(app, &cl);
+  app.get_option("--config")->required();
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   try {
-    const dmpl::NodeCommandLine cl = dmpl::ParseNodeCommandLine(argc, argv);
-    if (cl.help || cl.config_file.empty()) {
-      std::cout << "usage: dmpl_config --config FILE [--params FILE]... [--set key=value]...\n";
-      return cl.help ? 0 : 2;
-    }
     const dmpl::Config config =
         dmpl::Config::Resolve(cl.config_file, cl.params_files, cl.set_overrides);
     std::cout << YAML::Dump(config.root()) << "\n";

@@ -13,6 +13,7 @@
 #include <map>
 
 #include "components/runtime/clock.h"
+#include "components/runtime/command_line.h"
 #include "components/runtime/log_recorder.h"
 #include "components/controller/controller_node.h"
 #include "components/ik/ik_node.h"
@@ -36,31 +37,25 @@ const std::map<std::string, const dmpl::NodeInfo*>& Registry() {
   return registry;
 }
 
-// The recorder's options are this executable's own; the rest is a node's command line.
+// A node's config flags (AddConfigFlags), and the recorder's.
 struct OneProcessCommandLine {
+  dmpl::NodeCommandLine node;
   dmpl::RecordOptions record;
   std::string policy;
-  std::vector<char*> node_args;
 };
 
-OneProcessCommandLine SplitCommandLine(int argc, char** argv) {
-  OneProcessCommandLine cl;
-  cl.node_args = {argv[0]};
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--record" && i + 1 < argc) {
-      cl.record.log_path = argv[++i];
-    } else if (arg == "--record-policy" && i + 1 < argc) {
-      cl.policy = argv[++i];
-    } else if (arg == "--columns" && i + 1 < argc) {
-      cl.record.columns_dir = argv[++i];
-    } else if (arg == "--columns-fields" && i + 1 < argc) {
-      cl.record.columns_fields = argv[++i];
-    } else {
-      cl.node_args.push_back(argv[i]);
-    }
-  }
-  return cl;
+void AddRecorderFlags(CLI::App& app, OneProcessCommandLine* cl) {
+  app.add_option("--record", cl->record.log_path, "record the bus to this LCM log")
+      ->type_name("FILE");
+  app.add_option("--record-policy", cl->policy,
+                 "what the log keeps: full, analysis or none (default: run.record)")
+      ->type_name("POLICY");
+  app.add_option("--columns", cl->record.columns_dir,
+                 "extract the metrics' columns of every message online into DIR")
+      ->type_name("DIR");
+  app.add_option("--columns-fields", cl->record.columns_fields,
+                 "the fields extracted with --columns, as CHANNEL/name (a regex)")
+      ->type_name("REGEX");
 }
 
 // The experiment's `processes`, each built by its kind's factory with a context of its own in
@@ -118,18 +113,17 @@ int Run(dmpl::LcmBus* bus, const dmpl::RunParams& run,
 }  // namespace
 
 int main(int argc, char** argv) {
-  OneProcessCommandLine cl = SplitCommandLine(argc, argv);
+  CLI::App app{"dmpl_oneprocess: every node of an experiment in one process, on memq://, in "
+               "lockstep",
+               "dmpl_oneprocess"};
+  OneProcessCommandLine cl;
+  dmpl::AddConfigFlags(app, &cl.node);
+  AddRecorderFlags(app, &cl);
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   dmpl::NodeContext ctx;
   try {
-    const dmpl::NodeCommandLine node =
-        dmpl::ParseNodeCommandLine(static_cast<int>(cl.node_args.size()), cl.node_args.data());
-    if (node.help) {
-      std::cout << "usage: dmpl_oneprocess --config FILE [--set key=value]... [--params FILE]..."
-                   " [--record LOG] [--record-policy full|analysis|none] [--columns DIR]"
-                   " [--columns-fields REGEX]\n";
-      return 0;
-    }
-    ctx.config = dmpl::Config::Resolve(node.config_file, node.params_files, node.set_overrides);
+    ctx.config =
+        dmpl::Config::Resolve(cl.node.config_file, cl.node.params_files, cl.node.set_overrides);
     ctx.config.Load("run", &ctx.run);
     ctx.run.Validate(ctx.config.source());
     cl.record.policy = dmpl::ParseRecordPolicy(cl.policy.empty() ? ctx.run.record : cl.policy);

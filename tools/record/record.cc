@@ -18,10 +18,12 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "components/runtime/clock.h"
+#include "components/runtime/command_line.h"
 #include "components/runtime/log_recorder.h"
 
 namespace {
@@ -36,43 +38,27 @@ struct CommandLine {
   bool single_bus = false;
 };
 
-constexpr int kContinue = -1;  // ParseCommandLine: run; otherwise the exit code
-
-int ParseCommandLine(int argc, char** argv, CommandLine* cl) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--lcm-url" && i + 1 < argc) {
-      cl->url = argv[++i];
-    } else if (arg == "--channels" && i + 1 < argc) {
-      cl->options.channels = argv[++i];
-    } else if (arg == "--policy" && i + 1 < argc) {
-      cl->policy = argv[++i];
-    } else if (arg == "--columns" && i + 1 < argc) {
-      cl->options.columns_dir = argv[++i];
-    } else if (arg == "--fields" && i + 1 < argc) {
-      cl->options.columns_fields = argv[++i];
-    } else if (arg == "--run-id" && i + 1 < argc) {
-      try {
-        cl->options.run_id = std::stoll(argv[++i]);
-      } catch (const std::exception&) {
-        std::fprintf(stderr, "dmpl_record: --run-id: not an integer: '%s'\n", argv[i]);
-        return 2;
-      }
-    } else if (arg == "--single-bus") {
-      cl->single_bus = true;
-    } else if (arg == "-h" || arg == "--help") {
-      std::printf(
-          "usage: dmpl_record [--lcm-url URL] [--channels REGEX] [--single-bus] "
-          "[--policy full|analysis|none] [--columns DIR [--fields REGEX]] [--run-id N] "
-          "[FILE]\n");
-      return 0;
-    } else if (arg.rfind("--", 0) == 0 || !cl->options.log_path.empty()) {
-      std::fprintf(stderr, "dmpl_record: unexpected argument '%s' (try --help)\n", arg.c_str());
-      return 2;
-    } else {
-      cl->options.log_path = arg;
-    }
-  }
+// Parses the command line into `cl`; the exit code when the process is to exit now.
+std::optional<int> ParseCommandLine(int argc, char** argv, CommandLine* cl) {
+  CLI::App app{"dmpl_record: records LCM traffic to an LCM log file", "dmpl_record"};
+  app.add_option("FILE", cl->options.log_path, "the log written (none with --policy none)");
+  app.add_option("--lcm-url", cl->url, "the LCM URL to record (default: $LCM_DEFAULT_URL)")
+      ->type_name("URL");
+  app.add_option("--channels", cl->options.channels, "the channels recorded (a regex; default all)")
+      ->type_name("REGEX");
+  app.add_flag("--single-bus", cl->single_bus, "record the URL's own bus only, not buses 1-9");
+  app.add_option("--policy", cl->policy, "what FILE keeps: full, analysis or none (default full)")
+      ->type_name("POLICY");
+  app.add_option("--columns", cl->options.columns_dir,
+                 "extract the metrics' columns of every message online into DIR")
+      ->type_name("DIR");
+  app.add_option("--fields", cl->options.columns_fields,
+                 "the fields extracted with --columns, as CHANNEL/name (a regex)")
+      ->type_name("REGEX");
+  app.add_option("--run-id", cl->options.run_id,
+                 "record only this run's messages (and those of no run)")
+      ->type_name("N");
+  if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return code;
   try {
     cl->options.policy = dmpl::ParseRecordPolicy(cl->policy);
   } catch (const std::exception& e) {
@@ -85,7 +71,7 @@ int ParseCommandLine(int argc, char** argv, CommandLine* cl) {
         cl->options.log_path.empty() ? "no output FILE given" : "--policy none records no FILE");
     return 2;
   }
-  return kContinue;
+  return std::nullopt;
 }
 
 // Handles what is queued on any bus, waiting up to `timeout_ms` for something; how many it handled.
@@ -142,7 +128,7 @@ int Record(dmpl::LcmBus* bus, const CommandLine& cl) {
 
 int main(int argc, char** argv) {
   CommandLine cl;
-  if (const int code = ParseCommandLine(argc, argv, &cl); code != kContinue) return code;
+  if (const auto code = ParseCommandLine(argc, argv, &cl)) return *code;
   dmpl::LcmBus bus(cl.url, !cl.single_bus);
   if (!bus.good()) {
     std::fprintf(stderr, "dmpl_record: cannot open LCM '%s'\n", cl.url.c_str());

@@ -144,6 +144,7 @@ def main(argv=None):
     ap.add_argument("--keep-failed", metavar="DIR",
                     help="faults: record every trial and keep those that did not rejoin in DIR")
     args = ap.parse_args(argv)
+    from .lcm_url import LcmUnavailable
     from .process_set import SetError
     try:
         if args.what == "sim":
@@ -165,6 +166,9 @@ def main(argv=None):
     except SetError as e:  # e.g. another run on the URL the loop benchmark needs
         print(f"dmpl bench: error: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl bench: error: {e}", file=sys.stderr)
+        return 3
     text = json.dumps(result, indent=2)
     print(text)
     if args.json:

@@ -1,9 +1,8 @@
 """LCM on dmpl's buses from Python: one instance per bus a channel travels on (channels.h)."""
 import select
 
-import lcm
-
 from .channels import channel_url
+from .lcm_url import open_lcm
 
 
 class Buses:
@@ -16,7 +15,7 @@ class Buses:
     def lcm_for(self, channel):
         url = channel_url(self.base_url, channel, self.separate)
         if url not in self.instances:
-            self.instances[url] = lcm.LCM(url)
+            self.instances[url] = open_lcm(url)
         return self.instances[url]
 
     def subscribe(self, channel, handler):

@@ -10,8 +10,10 @@ import sys
 import threading
 import time
 
+from . import experiment
 from .bus import Buses
-from .process_set import RECORD_POLICIES
+from .lcm_url import LcmUnavailable
+from .process_set import RECORD_POLICIES, SetError
 from .logdata import LogError
 from .paths import OUT, ROOT
 from .report import make_report
@@ -87,9 +89,16 @@ def main(argv=None):
     cpus, pins = loop_layout() if args.cpus is None else (args.cpus or None, {})
     print(f"[demo] {args.config}: the sphere turned by finger gaiting; out: {args.out}",
           file=sys.stderr)
-    summary, out = run_experiment(args.config, args.out, seed=args.seed, sets=args.set,
-                                  echo=False, progress=Progress(), cpus=cpus, pins=pins,
-                                  record=args.record)
+    try:
+        summary, out = run_experiment(args.config, args.out, seed=args.seed, sets=args.set,
+                                      echo=False, progress=Progress(), cpus=cpus, pins=pins,
+                                      record=args.record)
+    except (experiment.ExperimentError, SetError) as e:
+        print(f"dmpl demo: error: {e}", file=sys.stderr)
+        return 2
+    except LcmUnavailable as e:
+        print(f"dmpl demo: error: {e}", file=sys.stderr)
+        return 3
     log = out / "run.lcmlog"
     print_headline(summary, out)
     if log.exists():
@@ -102,6 +111,8 @@ def main(argv=None):
             print(f"\nreport: not written: {e}")
         print(f"log:    {log} ({summary.get('record_policy')}; tools/dmpl replay it for "
               "tools/dmpl spy)")
+    if summary["status"] == "interrupted":
+        return 130  # as tools/dmpl run: the shell's code for Ctrl-C
     return 0 if summary["status"] == "success" else 1
 
 

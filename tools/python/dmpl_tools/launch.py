@@ -19,7 +19,8 @@ from pathlib import Path
 
 from . import channels
 from .affinity import child_command, this_thread_on, unpinned_cpus
-from .lcm_url import refuse_if_in_use, resolve_lcm_url, with_receive_buffer
+from .lcm_url import (LcmUnavailable, open_lcm, refuse_if_in_use, resolve_lcm_url,
+                      with_receive_buffer)
 from .paths import BUILD, OUT, ROOT, executable
 from .process_set import RECORD_POLICIES, ProcessSpec, SetError, load_set, peek_name
 
@@ -97,7 +98,7 @@ class Launcher:
         from dmpl import heartbeat_t
         self._lcm_mod = lcm
         self._heartbeat_t = heartbeat_t
-        self.lc = lcm.LCM(self.url)
+        self.lc = open_lcm(self.url)
         if check_url:
             refuse_if_in_use(self.url, self.lc)
         self.lc.subscribe(channels.HEARTBEAT, self._on_heartbeat)
@@ -447,6 +448,9 @@ def main(argv=None):
     except SetError as e:
         print(f"dmpl launch: error: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl launch: error: {e}", file=sys.stderr)
+        return 3
     launcher.say(f"set '{pset.name}' with {len(pset.processes)} processes, run dir {run_dir}, "
                  f"LCM {launcher.url}")
     return launcher.run(duration=args.duration)

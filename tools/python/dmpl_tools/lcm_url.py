@@ -13,6 +13,20 @@ RECEIVE_BUFFER_BYTES = 4 * 1024 * 1024
 IN_USE_LISTEN_S = 0.6
 
 
+class LcmUnavailable(Exception):
+    """LCM cannot be opened on a URL: the tools exit 3, as the nodes do (README, "Exit codes")."""
+
+
+def open_lcm(url):
+    """An LCM instance on `url`; LcmUnavailable, with one line that says why, when there is none."""
+    import lcm  # the PyPI package, in the project's venv
+    try:
+        return lcm.LCM(url)
+    except RuntimeError:
+        raise LcmUnavailable(f"cannot open LCM at '{url}' (a bad URL, or no multicast route: see "
+                             "README)") from None
+
+
 def resolve_lcm_url(given=None, configured=None):
     """The LCM URL: the one given (--lcm-url), else the configured one, else $LCM_DEFAULT_URL,
     else the dmpl default (as the nodes resolve it)."""
@@ -36,8 +50,7 @@ def refuse_if_in_use(url, lc=None, listen_s=IN_USE_LISTEN_S):
     if not url.startswith("udpm://"):
         return
     if lc is None:
-        import lcm
-        lc = lcm.LCM(url)
+        lc = open_lcm(url)
     heard = []
 
     def on_status(channel, data):

@@ -23,7 +23,7 @@ import time
 import lcm
 
 from .bus import Buses
-from .lcm_url import DEFAULT_LCM_URL, refuse_if_in_use
+from .lcm_url import DEFAULT_LCM_URL, LcmUnavailable, refuse_if_in_use
 from .process_set import SetError
 
 
@@ -124,6 +124,9 @@ def main(argv=None):
     except SetError as e:
         print(f"dmpl replay: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl replay: {e}", file=sys.stderr)
+        return 3
     player = Replayer(url, separate=not args.single_bus)
     print(f"dmpl replay: {args.log} onto {url}", file=sys.stderr)
     while True:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from . import experiment, metrics
 from .launch import Launcher
-from .lcm_url import refuse_if_in_use, resolve_lcm_url, with_receive_buffer
+from .lcm_url import LcmUnavailable, refuse_if_in_use, resolve_lcm_url, with_receive_buffer
 from .process_set import RECORD_POLICIES, SetError, parse_set
 from .logdata import Columns, LogData, extract, fields_regex
 from .paths import BUILD, OUT, ROOT
@@ -355,6 +355,9 @@ def main(argv=None):
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl run: error: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl run: error: {e}", file=sys.stderr)
+        return 3
     print_headline(summary, out)
     if summary["status"] == "interrupted":
         return 130  # the shell's code for Ctrl-C

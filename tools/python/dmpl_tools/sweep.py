@@ -32,6 +32,7 @@ from pathlib import Path
 from . import experiment
 from .affinity import child_command
 from .launch import ACTIVE
+from .lcm_url import LcmUnavailable
 from .process_set import RECORD_POLICIES, SetError
 from .paths import OUT, ROOT
 from .run import add_common_args, run_experiment, strict_json
@@ -565,6 +566,12 @@ def main(argv=None):
     except (experiment.ExperimentError, SetError) as e:
         print(f"dmpl sweep: error: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl sweep: error: {e}", file=sys.stderr)
+        return 3
+    except KeyboardInterrupt:  # the running trials were stopped (run_sweep)
+        print("dmpl sweep: interrupted", file=sys.stderr)
+        return 130
     print((out / "sweep.md").read_text())
     print(f"sweep: {out / 'sweep.md'}, {out / 'sweep.json'}, {out / 'sweep.parquet'}")
     return 0 if rate == 1.0 else 1

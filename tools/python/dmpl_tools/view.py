@@ -34,7 +34,7 @@ import numpy as np
 
 from . import channels, experiment
 from .hand_geometry import UrdfError, load_hand, rpy_matrix
-from .lcm_url import resolve_lcm_url
+from .lcm_url import LcmUnavailable, resolve_lcm_url
 from .logdata import (ROLE_NAMES, Columns, LogData, LogError, cumulative_rotation, extract,
                       task_axis)
 from .paths import ROOT
@@ -678,6 +678,9 @@ def main(argv=None):
     except (ViewError, LogError, experiment.ExperimentError, OSError) as e:
         print(f"dmpl view: {e}", file=sys.stderr)
         return 2
+    except LcmUnavailable as e:
+        print(f"dmpl view: {e}", file=sys.stderr)
+        return 3
 
 
 if __name__ == "__main__":
