@@ -18,7 +18,7 @@ import time
 import yaml
 
 from .paths import ROOT, executable
-from .bench_faults import VICTIMS, bench_faults
+from .bench_faults import NO_KILL, VICTIMS, bench_faults
 
 SIM_SCENE = ROOT / "configs/bench/sim_hold.yaml"
 
@@ -139,8 +139,9 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, help="alternating rounds (default: sim 3, loop 5)")
     ap.add_argument("--kills", type=int, default=20, help="faults: kills per process (20)")
     ap.add_argument("--lockstep", action="store_true", help="faults: in lockstep (default: real time)")
-    ap.add_argument("--processes", default=",".join(VICTIMS),
-                    help="faults: the processes to kill, in turn (default: %(default)s)")
+    ap.add_argument("--processes", default=",".join(VICTIMS + (NO_KILL,)),
+                    help="faults: the processes to kill, in turn; none: a run without a kill, "
+                         "the baseline (default: %(default)s)")
     ap.add_argument("--keep-failed", metavar="DIR",
                     help="faults: record every trial and keep those that did not rejoin in DIR")
     args = ap.parse_args(argv)
@@ -157,9 +158,9 @@ def main(argv=None):
             result = bench_loop(args.rounds or 5)
         else:
             victims = [p for p in args.processes.split(",") if p]
-            unknown = sorted(set(victims) - set(VICTIMS))
+            unknown = sorted(set(victims) - set(VICTIMS + (NO_KILL,)))
             if unknown or args.kills < 1:
-                ap.error(f"--processes takes {', '.join(VICTIMS)}; --kills at least 1"
+                ap.error(f"--processes takes {', '.join(VICTIMS + (NO_KILL,))}; --kills at least 1"
                          + (f" (unknown: {', '.join(unknown)})" if unknown else ""))
             result = bench_faults(args.kills, args.lockstep, keep_failed=args.keep_failed,
                                   victims=victims, progress=lambda t: print(t, file=sys.stderr))

@@ -4,9 +4,12 @@ Each trial runs the gait (configs/experiments/fig10_gait_sphere.yaml, 3 rad) wit
 kills one process (SIGKILL) at a moment drawn uniformly in [--from, --to] s of simulated time
 (the simulator's heartbeats tell it), and counts the trial as rejoined when the run still
 succeeds with that one restart. Processes are killed in turn (noise, IK, controller, supervisor),
-so a machine that gets busier part of the way through weighs on all of them alike.
+so a machine that gets busier part of the way through weighs on all of them alike. With them,
+the same runs without a kill (`none`): a real-time loop on a busy machine can fail without any
+fault, and a rejoin rate reads against that baseline.
 
-Keys per process: kills, rejoined, rate, and the problems of the trials that did not rejoin
+Keys per process (and `none`): runs, succeeded (rejoined and the run a success), rate, and the
+problems of the trials that did not
 (their run directories are kept with --keep-failed, recorded with the `analysis` policy).
 The simulator is not among them: it is the hand itself, and a hand that restarts drops what
 it holds.
@@ -27,6 +30,7 @@ from .paths import ROOT
 
 GAIT = ROOT / "configs/experiments/fig10_gait_sphere.yaml"
 VICTIMS = ("dmpl_noise", "dmpl_ik", "dmpl_controller", "dmpl_supervisor")
+NO_KILL = "none"  # the baseline: the same run, nobody killed
 
 
 def _heartbeat_type():
@@ -57,7 +61,7 @@ def kill_trial(victim, kill_at_s, lockstep, url, keep_dir=None, tick_s=0.001):
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and run.poll() is None:
         buses.handle(0.01)
-        if "pid" in state and state.get("tick", -1) * tick_s >= kill_at_s:
+        if victim != NO_KILL and "pid" in state and state.get("tick", -1) * tick_s >= kill_at_s:
             os.kill(state["pid"], signal.SIGKILL)
             state["killed_at_s"] = state["tick"] * tick_s
             break
@@ -68,8 +72,9 @@ def kill_trial(victim, kill_at_s, lockstep, url, keep_dir=None, tick_s=0.001):
     except (OSError, ValueError):
         summary = {"status": "no summary", "problems": [output[-500:]]}
     restarts = [r["process"] for r in summary.get("restarts", [])]
-    row["rejoined"] = (summary.get("status") == "success" and "killed_at_s" in state
-                       and restarts == [victim])
+    expected = [] if victim == NO_KILL else [victim]
+    row["rejoined"] = (summary.get("status") == "success" and restarts == expected
+                       and (victim == NO_KILL or "killed_at_s" in state))
     row["status"] = summary.get("status")
     row["problems"] = summary.get("problems", [])
     row["restarts"] = restarts
@@ -81,7 +86,7 @@ def kill_trial(victim, kill_at_s, lockstep, url, keep_dir=None, tick_s=0.001):
 
 
 def bench_faults(kills=20, lockstep=False, start_s=1.2, end_s=5.5, seed=1, port=7790,
-                 keep_failed=None, victims=VICTIMS, progress=print):
+                 keep_failed=None, victims=VICTIMS + (NO_KILL,), progress=print):
     rng = random.Random(seed)
     url = f"udpm://239.255.76.67:{port}?ttl=0"
     rows = []
@@ -91,13 +96,15 @@ def bench_faults(kills=20, lockstep=False, start_s=1.2, end_s=5.5, seed=1, port=
             keep = Path(keep_failed) / f"{victim}-{i}" if keep_failed else None
             row = kill_trial(victim, at, lockstep, url, keep)
             rows.append(row)
-            progress(f"{victim} killed at {row['kill_at_s'] or float('nan'):.2f} s: "
-                     f"{'rejoined' if row['rejoined'] else 'LOST: ' + '; '.join(row['problems'])}")
+            what = "nobody killed" if victim == NO_KILL else \
+                f"{victim} killed at {row['kill_at_s'] or float('nan'):.2f} s"
+            progress(f"{what}: "
+                     f"{'succeeded' if row['rejoined'] else 'LOST: ' + '; '.join(row['problems'])}")
     result = {"mode": "lockstep" if lockstep else "real time", "seed": seed,
               "kill_window_s": [start_s, end_s]}
     for victim in victims:
         mine = [r for r in rows if r["process"] == victim]
         ok = sum(r["rejoined"] for r in mine)
-        result[victim] = {"kills": len(mine), "rejoined": ok, "rate": ok / len(mine),
+        result[victim] = {"runs": len(mine), "succeeded": ok, "rate": ok / len(mine),
                           "failures": [r for r in mine if not r["rejoined"]]}
     return result
