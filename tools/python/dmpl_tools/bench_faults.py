@@ -1,7 +1,7 @@
 """tools/dmpl bench faults: how often a process of the loop, killed mid-gait, rejoins it.
 
 Each trial runs the gait (configs/experiments/fig10_gait_sphere.yaml, 3 rad) with --respawn,
-kills one process (SIGKILL) at a moment drawn uniformly in [--from, --to] s of simulated time
+kills one process (SIGKILL) at a moment drawn uniformly in 1.2-5.5 s of simulated time
 (the simulator's heartbeats tell it), and counts the trial as rejoined when the run still
 succeeds with that one restart. Processes are killed in turn (noise, IK, controller, supervisor),
 so a machine that gets busier part of the way through weighs on all of them alike. With them,
