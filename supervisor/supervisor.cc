@@ -87,7 +87,11 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
 void Supervisor::AdvanceClock(double sensed_s) {
   const double gap = clock_.Advance(sensed_s).gap_s;
   board_.now = clock_.now();
-  if (gap > 0) board_.Note("the senses were gone for " + std::to_string(gap) + " s; going on");
+  // Once the tasks have ended the note says why (the simulator's STOP carries it).
+  const bool ended = grasp_.is(GraspState::Done) || grasp_.is(GraspState::Failed);
+  if (gap > 0 && !ended) {
+    board_.Note("the senses were gone for " + std::to_string(gap) + " s; going on");
+  }
 }
 
 // Controller events -> chart events.

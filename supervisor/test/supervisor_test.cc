@@ -201,6 +201,10 @@ TEST(SupervisorTest, TimeWithoutSensesCountsAgainstNoTimeout) {
   late.view.grasp_stable = false;
   for (int i = 0; i < 400; ++i) late.Tick();
   EXPECT_TRUE(late.sup.failed());
+  // A gap after the end leaves the note saying why it ended.
+  const std::string why = late.sup.note();
+  late.Tick(1.0);
+  EXPECT_EQ(late.sup.note(), why);
 }
 
 TEST(SupervisorTest, GaitRunsThePapersRegraspCycleUntilTheGoal) {
