@@ -82,14 +82,21 @@ class LossTest(unittest.TestCase):
                   if clean.get(k) != lossy.get(k) and k not in WALL_CLOCK_KEYS}
         self.assertEqual(differ, {}, "summary keys that differ with loss")
 
-    def test_real_time_with_loss_succeeds(self):
-        # Real time does not wait for lost messages: the next command supersedes a lost one.
+    def test_real_time_with_loss_runs_on(self):
+        # Real time does not wait for lost messages: the next command supersedes a lost one, and
+        # the loop keeps the wall clock's pace to the end of the run. Whether the gait then
+        # turns the object all the way is a rate, not a sure thing: 8 of 10 on an idle 2-core
+        # machine (one dropped it, one turned it 0.69 of 1 rad), in stop 27's ten runs of
+        # `tools/dmpl test -L faults` (docs/benchmarks.md).
         (summary, _), dropped = self.lossy(
             run_experiment, GAIT, self.tmp / "realtime", echo=False,
             sets=SETS + ["run.lockstep=false", "sim.duration_s=30"])
         self.assertGreater(dropped, 100)
-        self.assertFalse(summary["object_dropped"])
-        self.assertGreater(summary["rotation_total_rad"], 0.9)
+        problems = " ".join(summary.get("problems", []))
+        self.assertNotIn("process failure", problems)
+        self.assertNotIn("timeout", problems)
+        self.assertGreater(summary["realtime_factor"], 0.9, problems)
+        self.assertGreater(summary["sim_time_s"], 1.5, problems)  # the gait began
 
 
 if __name__ == "__main__":
