@@ -8,6 +8,7 @@
 
 #include "components/controller/contact_sensing.h"
 #include "sim_process/sim/hand_sim.h"
+#include "sim_process/sim/testing/static_grasp.h"
 
 namespace dmpl {
 namespace {
@@ -18,16 +19,6 @@ HandModel LoadHand() {
   return HandModel::Load(p);
 }
 
-// The paper's sphere held by four fingertips (as sim_test's static grasp).
-SimParams StaticGrasp() {
-  SimParams sim;
-  sim.initial_joints = {{"T", {1.0805, 0.6818, 0.7742, 0.8128}},
-                        {"F", {-0.2086, 0.6651, 0.8474, 0.7633}},
-                        {"M", {0.0, 0.5752, 0.7849, 0.7381}},
-                        {"R", {0.2086, 0.6651, 0.8474, 0.7633}}};
-  return sim;
-}
-
 class ContactSensingSimTest : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouches) {
@@ -36,12 +27,9 @@ TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouch
   ObjectParams object;
   object.shape = GetParam();
   object.position = {0.09, 0.0, 0.02};
-  HandSim hand(model, StaticGrasp(), object);
+  HandSim hand(model, testing::StaticGraspSim(), object);
   std::string why;
-  ASSERT_TRUE(hand.SetJointTargets({1.1372, 0.6229, 0.7914, 0.7343, -0.2385, 0.692, 0.8536, 0.7619,
-                                    0.0, 0.5904, 0.8202, 0.7605, 0.2385, 0.692, 0.8536, 0.7619},
-                                   &why))
-      << why;
+  ASSERT_TRUE(hand.SetJointTargets(testing::SqueezeTargets(), &why)) << why;
   for (int i = 0; i < 300; ++i) hand.Step();
   hand.ReleaseObject();
   for (int i = 0; i < 1000; ++i) hand.Step();

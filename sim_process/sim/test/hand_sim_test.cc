@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "sim_process/sim/hand_sim.h"
+#include "sim_process/sim/testing/static_grasp.h"
 
 namespace dmpl {
 namespace {
@@ -33,20 +34,8 @@ TEST(HandSimTest, FreeFallMatchesHalfGTSquared) {
 namespace dmpl {
 namespace {
 
-// The paper's sphere (r = 2.5 cm, 50 g) held by four fingertips; joint angles put the tip
-// centres 4 mm inside the sphere's surface + tip radius, so each servo presses by its stiffness.
-SimParams StaticGraspSim() {
-  SimParams sim;
-  sim.initial_joints = {{"T", {1.0805, 0.6818, 0.7742, 0.8128}},
-                        {"F", {-0.2086, 0.6651, 0.8474, 0.7633}},
-                        {"M", {0.0, 0.5752, 0.7849, 0.7381}},
-                        {"R", {0.2086, 0.6651, 0.8474, 0.7633}}};
-  return sim;
-}
-std::vector<double> SqueezeTargets() {
-  return {1.1372, 0.6229, 0.7914, 0.7343, -0.2385, 0.692, 0.8536, 0.7619,
-          0.0,    0.5904, 0.8202, 0.7605, 0.2385,  0.692, 0.8536, 0.7619};
-}
+using testing::SqueezeTargets;
+using testing::StaticGraspSim;
 
 TEST(HandSimTest, StaticGraspHoldsTheReleasedSphere) {
   const HandModel model = LoadHand();
