@@ -7,17 +7,14 @@
 #include <cstdio>
 
 #include "components/controller/contact_sensing.h"
+#include "components/hand/testing/project_hand.h"
 #include "sim_process/sim/hand_sim.h"
 #include "sim_process/sim/testing/static_grasp.h"
 
 namespace dmpl {
 namespace {
 
-HandModel LoadHand() {
-  HandParams p;
-  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-  return HandModel::Load(p);
-}
+using testing::LoadHand;
 
 class ContactSensingSimTest : public ::testing::TestWithParam<const char*> {};
 

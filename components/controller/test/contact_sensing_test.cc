@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "components/hand/testing/project_hand.h"
+
 namespace dmpl {
 namespace {
 
@@ -17,15 +19,10 @@ TEST(ContactSensingTest, TheNormalRunsFromTheContactToTheTipCentre) {
 
 class LinkContactTest : public ::testing::Test {
  protected:
-  LinkContactTest() : model_(Load()), kin_(model_) {
+  LinkContactTest() : model_(testing::LoadHand()), kin_(model_) {
     q_.assign(kin_.num_joints(), 0.0);
     for (int j : kin_.joint_indices(kF)) q_[j] = 0.5;
     q_[kin_.joint_indices(kF)[0]] = 0.0;
-  }
-  static HandModel Load() {
-    HandParams p;
-    p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-    return HandModel::Load(p);
   }
   // The efforts that hold a tip force of `force` N along `normal` (into the fingertip), plus
   // `extra` on the finger's joints (a contact elsewhere).

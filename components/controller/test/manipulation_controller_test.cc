@@ -4,16 +4,13 @@
 #include <optional>
 
 #include "components/controller/manipulation_controller.h"
+#include "components/hand/testing/project_hand.h"
 #include "components/ik/finger_ik.h"
 
 namespace dmpl {
 namespace {
 
-HandModel LoadHand() {
-  HandParams p;
-  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-  return HandModel::Load(p);
-}
+using testing::LoadHand;
 
 // A fixed sphere pressed by compliant fingertips that stick where they touch (friction): a tip
 // whose target lies inside the sphere stays at its contact and presses with k times the depth of

@@ -3,15 +3,12 @@
 #include <random>
 
 #include "components/ik/hand_ik.h"
+#include "components/hand/testing/project_hand.h"
 
 namespace dmpl {
 namespace {
 
-HandModel LoadHand() {
-  HandParams p;
-  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-  return HandModel::Load(p);
-}
+using testing::LoadHand;
 
 Eigen::VectorXd RandomJoints(const FingerKinematics& f, std::mt19937& rng) {
   Eigen::VectorXd q(f.num_joints());

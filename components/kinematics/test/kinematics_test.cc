@@ -3,17 +3,14 @@
 #include <random>
 
 #include "components/kinematics/hand_kinematics.h"
+#include "components/hand/testing/project_hand.h"
 #include "components/kinematics/urdf_to_kdl.h"
 #include "sim_process/sim/hand_sim.h"
 
 namespace dmpl {
 namespace {
 
-HandModel LoadHand() {
-  HandParams p;
-  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-  return HandModel::Load(p);
-}
+using testing::LoadHand;
 
 TEST(UrdfToKdlTest, TreeHasEverySegmentAndTheActuatedJoints) {
   const HandModel model = LoadHand();

@@ -1,15 +1,12 @@
 #include <gtest/gtest.h>
 
 #include "sim_process/joint_player/joint_trajectory.h"
+#include "components/hand/testing/project_hand.h"
 
 namespace dmpl {
 namespace {
 
-HandModel LoadHand() {
-  HandParams p;
-  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-  return HandModel::Load(p);
-}
+using testing::LoadHand;
 
 JointWaypoint Open(double t) {
   return {t, {{"T", {0.3, 0, 0, 0}}, {"F", {0, 0, 0, 0}}, {"M", {0, 0, 0, 0}}, {"R", {0, 0, 0, 0}}}};

@@ -1,16 +1,13 @@
 #include <gtest/gtest.h>
 
 #include "sim_process/sim/hand_sim.h"
+#include "components/hand/testing/project_hand.h"
 #include "sim_process/sim/testing/static_grasp.h"
 
 namespace dmpl {
 namespace {
 
-HandModel LoadHand() {
-  HandParams p;
-  p.urdf = std::string(DMPL_SOURCE_DIR) + "/configs/hand/dmpl_hand.urdf";
-  return HandModel::Load(p);
-}
+using testing::LoadHand;
 
 TEST(HandSimTest, FreeFallMatchesHalfGTSquared) {
   const HandModel model = LoadHand();
