@@ -49,4 +49,18 @@ Eigen::Quaterniond Blackboard::SensedOrientation() const {
   return Eigen::Quaterniond(view.object.linear()).normalized();
 }
 
+void Blackboard::LearnSurface() {
+  // A reading lighter than this, or a point not on the tip sphere, is not taken as a contact.
+  constexpr double kMinForceN = 0.05;
+  constexpr double kMinRadiusM = 0.002, kMaxRadiusM = 0.03;
+  for (const FingerView& f : view.fingers) {
+    if (!f.in_contact || f.force < kMinForceN) continue;
+    const Eigen::Vector3d into = f.contact - f.tip;  // into the object
+    const double radius = into.norm();
+    if (!(radius > kMinRadiusM && radius < kMaxRadiusM)) continue;
+    tip_radius_m = tip_radius_m > 0 ? 0.99 * tip_radius_m + 0.01 * radius : radius;
+    surface.Add(view.object, f.contact, -into / radius, now);
+  }
+}
+
 }  // namespace dmpl

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "supervisor/supervisor_types.h"
+#include "supervisor/surface_model.h"
 
 namespace dmpl {
 
@@ -26,6 +27,9 @@ struct Blackboard {
   // The controller said so since the motion began, or says so now.
   bool MotionDone() const { return motion_done_event || view.motion_done; }
   Eigen::Quaterniond SensedOrientation() const;
+  // What this tick's fingertip contacts say of the object's surface (view's contact points,
+  // normals from the tip centres) and of the tips' radius.
+  void LearnSurface();
 
   std::vector<std::string> fingers;
   ControllerView view;
@@ -35,6 +39,10 @@ struct Blackboard {
   // Where each fingertip and the object's centre were when the first task began.
   std::vector<Eigen::Vector3d> home;
   Eigen::Vector3d home_centre = Eigen::Vector3d::Zero();
+  // The object's surface as the fingertips have felt it (object frame), and the fingertips'
+  // radius as the contacts show it (0 until one is felt): an explorer's target is its tip centre.
+  SurfaceModel surface;
+  double tip_radius_m = 0.0;
   SupervisorOutput out;
   std::string note;
   int32_t next_task_id = 1;

@@ -84,7 +84,8 @@ void Gait::Explore(const std::string& finger) {
   const bool spaced = spec_.tip_clearance_m > 0 && geometry_.AroundFingers(axis);
   step_limit_ = spaced ? geometry_.StepLimit(axis, board_->view, params_.step / 4.0) : 0.0;
   const Eigen::AngleAxisd turn(ExploreBack(f, axis, sign, four), axis);
-  explore_.point = geometry_.ExplorePoint(f, turn, board_->view);
+  explore_.point =
+      geometry_.ExplorePoint(f, turn, board_->view, board_->surface, board_->tip_radius_m);
   explore_.axis = axis;
   explore_.spaced = spaced;
   explore_.neighbour_rides = !four;

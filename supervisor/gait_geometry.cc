@@ -76,8 +76,16 @@ double GaitGeometry::StepLimit(const Eigen::Vector3d& axis_in, const ControllerV
 }
 
 Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
-                                           const ControllerView& view) const {
-  return view.object.translation() + turn * (home_[f] - home_centre_);
+                                           const ControllerView& view,
+                                           const SurfaceModel& surface,
+                                           double tip_radius_m) const {
+  const Eigen::Vector3d centre = view.object.translation();
+  const Eigen::Vector3d guess = centre + turn * (home_[f] - home_centre_);
+  if (tip_radius_m <= 0) return guess;
+  const Eigen::Matrix3d to_palm = view.object.linear();
+  const SurfacePoint s = surface.Along(to_palm.transpose() * (guess - centre));
+  if (!s.known) return guess;
+  return centre + to_palm * (s.point + tip_radius_m * s.normal);
 }
 
 double GaitGeometry::LimitBack(int f, const Eigen::Vector3d& axis, double back) const {

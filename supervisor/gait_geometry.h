@@ -3,13 +3,15 @@
 // task began (their homes), where they and the object are now (the controller's view), and the
 // gait's settings. Nothing here commands anything: the Gait asks, then acts.
 //
-// The explorer's next point is its home turned about the sensed centre (ExplorePoint): the
-// object is taken to be as far from its centre in every direction as it was at the homes.
+// The explorer's next point lies in the direction of its home turned about the sensed centre
+// (ExplorePoint): on the surface the fingers have felt there (surface_model.h), or, where they
+// have felt too little of it, as far from the centre as the home was.
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "supervisor/supervisor_types.h"
+#include "supervisor/surface_model.h"
 #include "supervisor/task_description.h"
 
 namespace dmpl {
@@ -30,9 +32,11 @@ class GaitGeometry {
   // the axis.
   double StepLimit(const Eigen::Vector3d& axis, const ControllerView& view,
                    double smallest) const;
-  // Finger `f`'s home turned by `turn` about the sensed centre.
-  Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn,
-                               const ControllerView& view) const;
+  // Where finger `f`'s tip centre goes: toward its home turned by `turn` about the sensed
+  // centre, `tip_radius_m` off the modelled surface in that direction where `surface` knows it
+  // (else at the home's distance from the centre).
+  Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn, const ControllerView& view,
+                               const SurfaceModel& surface, double tip_radius_m) const;
   // `back` (rad about `axis`), no further than the deviation allows finger `f` from its home:
   // a turn by phi about the axis moves a point at beta from it by 2 asin(sin(beta) sin(phi/2)).
   double LimitBack(int f, const Eigen::Vector3d& axis, double back) const;

@@ -71,6 +71,7 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
   board_.out.sim = SimRequest::kNone;
   board_.out.changed = false;
   AdvanceClock(view.time_s);
+  board_.LearnSurface();
   const GraspState before = grasp_.state();
   if (grasp_.is(GraspState::ObjectHeld)) grasp_.Process(GraspEvent::Start);
   OnControllerEvents(view.events);

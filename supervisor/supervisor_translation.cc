@@ -46,7 +46,8 @@ ControllerView ToControllerView(const controller_status_t& m,
   for (const auto& fs : m.fingers) {
     const int f = Index(fingers, fs.finger);
     if (f < 0) continue;
-    view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position)};
+    view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position),
+                       ToVector3(fs.contact_position)};
   }
   view.object = ToPose(m.object_position, m.object_orientation);
   for (const auto& e : m.events) {

@@ -31,7 +31,8 @@ struct GraspEventData {
 struct FingerView {
   bool in_contact = false;
   double force = 0.0;
-  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();      // the tip sphere's centre (palm frame)
+  Eigen::Vector3d contact = Eigen::Vector3d::Zero();  // the sensed contact point, in contact
 };
 
 // What the supervisor reads from one controller status.

@@ -14,23 +14,50 @@ ContactNormal NormalFromTip(const Eigen::Vector3d& tip_centre, const Eigen::Vect
   return c;
 }
 
+namespace {
+
+// Whether a tangential tip force within `friction` times the normal force `tip_force_n` leaves
+// every joint of `residual` within `threshold_nm`: the least-squares tangential force (two
+// unknowns, one equation per joint), pulled back onto the friction cone if it lies beyond.
+bool FrictionExplains(const Eigen::Matrix3Xd& jac, const Eigen::Vector3d& normal,
+                      const Eigen::VectorXd& residual, double tip_force_n, double friction,
+                      double threshold_nm) {
+  if (friction <= 0 || tip_force_n <= 0 || normal.norm() < 0.5) return false;
+  const Eigen::Vector3d n = normal.normalized();
+  Eigen::Matrix<double, 3, 2> tangent;
+  tangent.col(0) = n.unitOrthogonal();
+  tangent.col(1) = n.cross(tangent.col(0));
+  const Eigen::MatrixX2d effect = jac.transpose() * tangent;  // joint torque per tangential N
+  Eigen::Vector2d force = -effect.colPivHouseholderQr().solve(residual);
+  const double most = friction * tip_force_n;
+  if (force.norm() > most) force *= most / force.norm();
+  return (residual + effect * force).cwiseAbs().maxCoeff() <= threshold_nm;
+}
+
+}  // namespace
+
 LinkContact FindLinkContact(const HandKinematics& kin, int f,
                             const std::vector<double>& q, const std::vector<double>& effort,
                             double tip_force_n, const Eigen::Vector3d& normal,
-                            double threshold_nm) {
+                            double threshold_nm, double friction) {
   const std::vector<int>& joints = kin.joint_indices(f);
   Eigen::Vector3d tip;
   Eigen::Matrix3Xd jac;
   kin.finger(f).TipJacobian(kin.FingerJoints(f, q), &tip, &jac);
   // In equilibrium the servos' torques balance the contact forces: effort + J^T f = 0 for a
   // contact on the tip only.
-  const Eigen::VectorXd explained = jac.transpose() * (tip_force_n * normal);
+  Eigen::VectorXd residual = jac.transpose() * (tip_force_n * normal);
+  for (size_t j = 0; j < joints.size(); ++j) residual[j] += effort[joints[j]];
   LinkContact contact;
+  if (residual.cwiseAbs().maxCoeff() <= threshold_nm ||
+      FrictionExplains(jac, normal, residual, tip_force_n, friction, threshold_nm)) {
+    return contact;
+  }
+  // The link: the outermost joint the residual (without friction) is above the threshold at.
   for (int j = static_cast<int>(joints.size()) - 1; j >= 0; --j) {
-    const double residual = effort[joints[j]] + explained[j];
-    if (std::abs(residual) <= threshold_nm) continue;
+    if (std::abs(residual[j]) <= threshold_nm) continue;
     contact.joint = j;
-    contact.torque_nm = residual;
+    contact.torque_nm = residual[j];
     contact.link = kin.finger(f).LinkAfterJoint(j);
     break;
   }

@@ -33,7 +33,10 @@ struct LinkContact {
 };
 
 // Finger f's link contact, if any: the outermost joint whose sensed effort, with what the tip
-// force explains (J^T f, f = force * normal on the tip), leaves more than `threshold_nm`.
+// force explains (J^T f, f = force * normal on the tip), leaves more than `threshold_nm`. The
+// tip's sensor reads the normal force only, and friction at the tip adds a tangential force of
+// up to `friction` times it (a grip carrying the object's weight): only a residual that no
+// such tangential force explains (within the threshold on every joint) is a link contact.
 // `q` and `effort` are the hand's joint vectors (HandKinematics order); `normal` points from the
 // object into the fingertip (NormalFromTip). The residual also holds what the servo adds for
 // gravity (gravity compensation: a few hundredths of a N m on this hand), which the threshold
@@ -41,6 +44,6 @@ struct LinkContact {
 LinkContact FindLinkContact(const HandKinematics& kin, int f,
                             const std::vector<double>& q, const std::vector<double>& effort,
                             double tip_force_n, const Eigen::Vector3d& normal,
-                            double threshold_nm);
+                            double threshold_nm, double friction = 0.0);
 
 }  // namespace dmpl

@@ -109,6 +109,10 @@ struct ControllerParams {
   // (LINK_CONTACT events; 0: not checked). The servos' gravity compensation leaves a few
   // hundredths; a link pressed on the object, tenths (docs/benchmarks.md).
   double link_contact_torque_nm = 0.15;
+  // The friction at a fingertip that may explain torque before it counts as a link contact (a
+  // grip carrying the object's weight pushes across the normal too; the tip reads the normal
+  // force only).
+  double link_contact_friction = 1.5;
   int contact_debounce_ticks = 5;        // a new contact must persist this long...
   int contact_loss_ticks = 40;           // ...a loss this long (rolling contacts flicker)
   double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
@@ -158,6 +162,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(target_tolerance_m));
     a->Visit(DMPL_NVP(contact_threshold_n));
     a->Visit(DMPL_NVP(link_contact_torque_nm), AtLeast(0));
+    a->Visit(DMPL_NVP(link_contact_friction), AtLeast(0));
     a->Visit(DMPL_NVP(contact_debounce_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(contact_loss_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(motion_done_rad));

@@ -159,7 +159,8 @@ void ManipulationController::DetectLinkContacts(const SensedInput& in,
     const Eigen::Vector3d normal =
         tip.in_contact ? NormalFromTip(tips[f], tip.position, 0.0).normal : Eigen::Vector3d::Zero();
     const LinkContact link = FindLinkContact(kin_, f, in.q, in.effort,
-                                             tip.in_contact ? tip.force : 0.0, normal, threshold);
+                                             tip.in_contact ? tip.force : 0.0, normal, threshold,
+                                             params_.link_contact_friction);
     FingerState& s = fingers_[f];
     const bool raw = link.joint >= 0;
     if (raw == s.on_link) {

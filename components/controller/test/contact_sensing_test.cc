@@ -48,12 +48,29 @@ TEST_F(LinkContactTest, ATipContactIsNotMistakenForALinkContact) {
   EXPECT_EQ(FindLinkContact(kin_, kF, q_, effort, 2.0, normal, 0.1).joint, -1);
 }
 
+TEST_F(LinkContactTest, FrictionAtTheTipIsNotMistakenForALinkContact) {
+  // A grip carrying weight: 2 N along the normal and 1.6 N across it (friction 0.8). The
+  // tangential part alone leaves more than 0.1 N m on the proximal joints.
+  const Eigen::Vector3d normal = Eigen::Vector3d(-1, 0, -0.3).normalized();
+  const Eigen::Vector3d across = normal.unitOrthogonal();
+  const Eigen::Vector3d total = 2.0 * normal + 1.6 * across;
+  const std::vector<double> effort = Holding(total.norm(), total.normalized(),
+                                             Eigen::Vector4d::Zero());
+  ASSERT_GE(FindLinkContact(kin_, kF, q_, effort, 2.0, normal, 0.1).joint, 0)
+      << "without friction the tangential force reads as a link contact";
+  EXPECT_EQ(FindLinkContact(kin_, kF, q_, effort, 2.0, normal, 0.1, 1.0).joint, -1);
+  // Beyond the friction allowed (0.1: at most 0.2 N of the 1.6 N across) it is not explained.
+  EXPECT_GE(FindLinkContact(kin_, kF, q_, effort, 2.0, normal, 0.1, 0.1).joint, 0);
+}
+
 TEST_F(LinkContactTest, ALinkContactIsFoundAndNamed) {
   const Eigen::Vector3d normal = Eigen::Vector3d(-1, 0, -0.3).normalized();
   // 0.3 N m on the abduction and the first flexion joint: a push on the proximal link.
   const std::vector<double> effort = Holding(1.0, normal, Eigen::Vector4d(0.1, 0.3, 0, 0));
   const LinkContact c = FindLinkContact(kin_, kF, q_, effort, 1.0, normal, 0.1);
   EXPECT_EQ(c.joint, 1);
+  // Friction at the tip (up to 1.5 N across) does not explain it away.
+  EXPECT_EQ(FindLinkContact(kin_, kF, q_, effort, 1.0, normal, 0.1, 1.5).joint, 1);
   EXPECT_NEAR(c.torque_nm, 0.3, 1e-9);
   const int joint = model_.fingers()[kF].joints[1];
   EXPECT_EQ(c.link, model_.links()[model_.actuated_joint(joint).child_link].name);
