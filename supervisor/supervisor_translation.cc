@@ -30,6 +30,9 @@ std::string OutOfRange(const controller_status_t& m) {
     if (!tip.allFinite() || tip.norm() > InputBounds::kWorkspaceRadiusM) {
       return "finger " + f.finger + " tip outside the hand's workspace";
     }
+    if (!ToVector3(f.tip_axis).allFinite() || !ToVector3(f.contact_position).allFinite()) {
+      return "finger " + f.finger + " contact or tip axis with NaN";
+    }
     if (!std::isfinite(f.force_n) || std::abs(f.force_n) > InputBounds::kMaxForceN) {
       return "finger " + f.finger + " force beyond the sensor's range";
     }
@@ -47,7 +50,10 @@ ControllerView ToControllerView(const controller_status_t& m,
     const int f = Index(fingers, fs.finger);
     if (f < 0) continue;
     view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position),
-                       ToVector3(fs.contact_position)};
+                       ToVector3(fs.contact_position), ToVector3(fs.tip_axis)};
+    const double axis = view.fingers[f].tip_axis.norm();
+    view.fingers[f].tip_axis =
+        axis > 0.5 ? Eigen::Vector3d(view.fingers[f].tip_axis / axis) : Eigen::Vector3d::UnitZ();
   }
   view.object = ToPose(m.object_position, m.object_orientation);
   for (const auto& e : m.events) {

@@ -1,6 +1,15 @@
 #include "supervisor/supervisor_types.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace dmpl {
+
+double FingerView::ContactAngle() const {
+  const Eigen::Vector3d into = contact - tip;
+  if (!in_contact || into.norm() < 1e-3) return 0.0;
+  return std::acos(std::clamp(tip_axis.dot(into.normalized()), -1.0, 1.0));
+}
 
 const char* ToString(GraspState s) {
   switch (s) {

@@ -33,6 +33,11 @@ struct FingerView {
   double force = 0.0;
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();      // the tip sphere's centre (palm frame)
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();  // the sensed contact point, in contact
+  Eigen::Vector3d tip_axis = Eigen::Vector3d::UnitZ();  // the distal link's direction (unit)
+  // The angle between the tip's axis and the normal into the object at its contact (0: it
+  // touches with its front; near 90 deg and beyond, with the side next to its distal link,
+  // which touches next). 0 without a contact.
+  double ContactAngle() const;
 };
 
 // What the supervisor reads from one controller status.

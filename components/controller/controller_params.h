@@ -113,6 +113,12 @@ struct ControllerParams {
   // grip carrying the object's weight pushes across the normal too; the tip reads the normal
   // force only).
   double link_contact_friction = 1.5;
+  // A fingertip touching further round from its front than this (the angle between the tip's
+  // axis and its contact normal) presses the object with the side next to its distal link, and
+  // the link touches next; its contact slides toward the finger's base (grip and explore
+  // fingers) at up to tip_contact_slide_speed until it is back within the angle (0: off).
+  double tip_contact_max_angle_rad = 0.0;
+  double tip_contact_slide_speed = 0.01;  // m/s
   int contact_debounce_ticks = 5;        // a new contact must persist this long...
   int contact_loss_ticks = 40;           // ...a loss this long (rolling contacts flicker)
   double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
@@ -163,6 +169,8 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(contact_threshold_n));
     a->Visit(DMPL_NVP(link_contact_torque_nm), AtLeast(0));
     a->Visit(DMPL_NVP(link_contact_friction), AtLeast(0));
+    a->Visit(DMPL_NVP(tip_contact_max_angle_rad), InRange(0.0, 3.141592653589793));
+    a->Visit(DMPL_NVP(tip_contact_slide_speed), AtLeast(0));
     a->Visit(DMPL_NVP(contact_debounce_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(contact_loss_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(motion_done_rad));

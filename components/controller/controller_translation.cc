@@ -57,6 +57,7 @@ void FillTargets(const ControllerOutput& out, const SensedInput& sensed, int64_t
     finger_target_t& t = targets->fingers[f];
     t.mode = out.fingers[f].track ? finger_target_t::POSITION : finger_target_t::HOLD;
     ToArray(out.fingers[f].target, t.position);
+    ToArray(out.fingers[f].approach, t.approach);
   }
 }
 
@@ -86,6 +87,7 @@ void FillStatus(const ControllerOutput& out, int64_t tick, int64_t utime,
     ToArray(o.tip, fs.tip_position);
     ToArray(o.target, fs.target_position);
     ToArray(o.contact, fs.contact_position);
+    ToArray(o.tip_axis, fs.tip_axis);
   }
   s.events.clear();
   for (const ControllerEvent& e : out.events) {

@@ -74,8 +74,12 @@ struct FingerOutput {
   double force = 0.0;
   double desired_force = 0.0;
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tip_axis = Eigen::Vector3d::UnitZ();  // the distal link's direction
   Eigen::Vector3d target = Eigen::Vector3d::Zero();
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();
+  // Where the tip's axis should point for the IK (unit, into the object at its contact; zero:
+  // no preference).
+  Eigen::Vector3d approach = Eigen::Vector3d::Zero();
   bool track = false;                  // false: the IK holds this finger
 };
 

@@ -304,9 +304,11 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
     o.role = s.task.role;
     o.primitive = s.task.primitive;
     o.tip = tips[f];
+    o.tip_axis = tip_axes_[f];
     o.in_contact = s.contact;
     o.force = in.tips[f].force;
     o.contact = in.tips[f].position;
+    o.approach = TipApproach(f, located.tips[f].position, tips[f]);
     o.desired_force = 0.0;
     o.track = true;
     switch (s.task.primitive) {
@@ -345,6 +347,37 @@ SensedInput ManipulationController::UndoTactileCalibration(const SensedInput& ra
   return in;
 }
 
+// A finger that touches: its tip should point into the object at its contact (the IK turns
+// the tip's axis that way with its redundancy), so that it presses with its front and not with
+// the side beside its distal link.
+Eigen::Vector3d ManipulationController::TipApproach(int f, const Eigen::Vector3d& contact,
+                                                    const Eigen::Vector3d& tip) const {
+  const Eigen::Vector3d into = contact - tip;
+  const double distance = into.norm();
+  if (!fingers_[f].contact || !(distance > 1e-3)) return Eigen::Vector3d::Zero();
+  return into / distance;
+}
+
+// This tick's slide of a touching fingertip's contact toward the finger's base (along the
+// surface: the tangent-plane part of minus the tip's axis), when the contact lies further round
+// the tip than tip_contact_max_angle_rad: the surface's normal turns toward the way the contact
+// slides (on a convex object), and so back toward the tip's front.
+Eigen::Vector3d ManipulationController::FrontSlide(int f, const Eigen::Vector3d& contact,
+                                                   const Eigen::Vector3d& tip) const {
+  const double most = params_.tip_contact_max_angle_rad;
+  const Eigen::Vector3d into = contact - tip;
+  if (most <= 0 || into.norm() < 1e-3) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d normal = into.normalized();
+  const Eigen::Vector3d& axis = tip_axes_[f];
+  const double beyond = std::acos(std::clamp(axis.dot(normal), -1.0, 1.0)) - most;
+  if (beyond <= 0) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d back = -axis + axis.dot(normal) * normal;  // -axis in the tangent plane
+  if (back.norm() < 1e-6) return Eigen::Vector3d::Zero();
+  // Full speed 0.2 rad past the angle.
+  const double speed = params_.tip_contact_slide_speed * std::min(beyond / 0.2, 1.0);
+  return speed * dt_ * back.normalized();
+}
+
 // The tick length from the sensed clock (the simulator's, in lockstep), else the nominal one.
 // The controller's own clock (role ramps, grip adaptation, how long a grasp has been stable)
 // does not count a gap in the sensed one (SensedClock): nothing it measures over time is taken
@@ -360,6 +393,9 @@ std::vector<Eigen::Vector3d> ManipulationController::TipPositions(const std::vec
   const int nf = kin_.num_fingers();
   std::vector<Eigen::Vector3d> tips(nf);
   for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, q);
+  tip_axes_.resize(nf);
+  Eigen::Matrix3Xd omega;
+  for (int f = 0; f < nf; ++f) kin_.finger(f).TipAxis(kin_.FingerJoints(f, q), &tip_axes_[f], &omega);
   for (int f = 0; f < nf; ++f) {
     if (!fingers_[f].has_target) {
       fingers_[f].target = tips[f];
@@ -590,6 +626,7 @@ double ManipulationController::StepComposite(int f, const SensedTip& sensed,
     s.target = tip + params_.guarded_approach_lead_m * direction;
     return desired;
   }
+  if (s.contact) s.anchor += FrontSlide(f, sensed.position, tip);
   s.anchor = tip + ClampNorm(s.anchor - tip, params_.max_anchor_offset_m);
   s.target = s.anchor + displacement +
              direction * ForceTerm(&s, params_.force, desired, sensed.force);
@@ -631,6 +668,7 @@ double ManipulationController::StepHybrid(int f, const SensedTip& sensed,
   }
   const double desired = Ramp(s, s.task.force_n > 0 ? s.task.force_n : params_.explore_force_n);
   s.anchor += tangential;
+  if (s.contact) s.anchor += FrontSlide(f, sensed.position, tip);
   s.target = s.anchor + normal * ForceTerm(&s, params_.explore_force, desired, sensed.force);
   return desired;
 }

@@ -82,6 +82,10 @@ class ManipulationController {
   // The phases of Step, in order.
   SensedInput UndoTactileCalibration(const SensedInput& raw) const;
   bool Validate(const SensedInput& in, std::string* why) const;
+  Eigen::Vector3d FrontSlide(int f, const Eigen::Vector3d& contact,
+                             const Eigen::Vector3d& tip) const;
+  Eigen::Vector3d TipApproach(int f, const Eigen::Vector3d& contact,
+                              const Eigen::Vector3d& tip) const;
   void AdvanceClock(double time_s);
   std::vector<Eigen::Vector3d> TipPositions(const std::vector<double>& q);
   SensedInput LocateContacts(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips);
@@ -118,6 +122,7 @@ class ManipulationController {
   SensedClock clock_{0.1};  // a step of the sensed clock over 0.1 s is a gap
   double now_ = 0.0;        // clock_.now() at this step
   std::vector<FingerState> fingers_;
+  std::vector<Eigen::Vector3d> tip_axes_;  // each fingertip's axis this tick (palm frame)
   GripAdapter grip_;
   LoadEstimator load_;
   Eigen::Vector3d gravity_;  // its direction in the palm frame (controller.gravity_direction)

@@ -19,7 +19,10 @@ struct IkResult {
   int iterations = 0;
 };
 
+// `approach` (unit, or zero for none): the direction the fingertip's axis should point; the
+// redundancy of the position task turns it that way (params.approach_gain).
 IkResult SolveFingerIk(const FingerKinematics& finger, const Eigen::VectorXd& seed,
-                       const Eigen::Vector3d& target, const IkParams& params);
+                       const Eigen::Vector3d& target, const IkParams& params,
+                       const Eigen::Vector3d& approach = Eigen::Vector3d::Zero());
 
 }  // namespace dmpl

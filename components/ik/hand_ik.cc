@@ -12,9 +12,11 @@ HandIk::HandIk(const HandKinematics& kinematics, const IkParams& params)
 
 const std::vector<double>& HandIk::Step(
     const std::vector<double>& measured,
-    const std::vector<std::optional<Eigen::Vector3d>>& targets) {
+    const std::vector<std::optional<Eigen::Vector3d>>& targets,
+    const std::vector<Eigen::Vector3d>& approaches) {
   DMPL_DEMAND(static_cast<int>(measured.size()) == kin_.num_joints());
   DMPL_DEMAND(static_cast<int>(targets.size()) == kin_.num_fingers());
+  DMPL_DEMAND(approaches.empty() || approaches.size() == targets.size());
   if (command_.empty()) {
     // First tick: start where the hand is (clamped into the limits).
     command_ = measured;
@@ -38,7 +40,10 @@ const std::vector<double>& HandIk::Step(
     }
     const FingerKinematics& finger = kin_.finger(f);
     const Eigen::VectorXd seed = kin_.FingerJoints(f, command_);
-    const IkResult r = SolveFingerIk(finger, seed, *targets[f], params_);
+    const Eigen::Vector3d approach =
+        approaches.empty() || !approaches[f].allFinite() ? Eigen::Vector3d::Zero()
+                                                         : approaches[f];
+    const IkResult r = SolveFingerIk(finger, seed, *targets[f], params_, approach);
     report = {r.status, r.residual_m, r.iterations};
     const auto& idx = kin_.joint_indices(f);
     for (size_t k = 0; k < idx.size(); ++k) {

@@ -20,9 +20,11 @@ class HandIk {
   HandIk(const HandKinematics& kinematics, const IkParams& params);
 
   // `measured`: the sensed joint vector (hand order). `targets[f]`: the tip target of finger f,
-  // or nullopt to hold it. Returns the joint command (always within limits).
+  // or nullopt to hold it; `approaches[f]` (if given): the direction its tip's axis should
+  // point (zero: none; finger_ik.h). Returns the joint command (always within limits).
   const std::vector<double>& Step(const std::vector<double>& measured,
-                                  const std::vector<std::optional<Eigen::Vector3d>>& targets);
+                                  const std::vector<std::optional<Eigen::Vector3d>>& targets,
+                                  const std::vector<Eigen::Vector3d>& approaches = {});
 
   const std::vector<FingerIkReport>& reports() const { return reports_; }
   const std::vector<double>& command() const { return command_; }

@@ -91,6 +91,7 @@ class IkNode : public Node {
   void Solve(int64_t tick) {
     const double t0 = MonotonicSeconds();
     std::vector<std::optional<Eigen::Vector3d>> targets(kin_.num_fingers());
+    std::vector<Eigen::Vector3d> approaches(kin_.num_fingers(), Eigen::Vector3d::Zero());
     for (const auto& t : targets_.fingers) {
       const int f = kin_.FindFinger(t.finger);
       if (f < 0) {
@@ -99,9 +100,12 @@ class IkNode : public Node {
       }
       if (t.mode == finger_target_t::POSITION) {
         targets[f] = ToVector3(t.position);
+        const Eigen::Vector3d approach = ToVector3(t.approach);
+        const double norm = approach.norm();
+        if (std::isfinite(norm) && norm > 0.5 && norm < 1.5) approaches[f] = approach / norm;
       }
     }
-    const std::vector<double>& q = ik_.Step(targets_.joint_position, targets);
+    const std::vector<double>& q = ik_.Step(targets_.joint_position, targets, approaches);
     cmd_.utime = targets_.utime;
     cmd_.seq = tick;
     cmd_.sim_command = targets_.sim_command;

@@ -11,6 +11,10 @@ struct IkParams {
   double nullspace_gain = 0.02;       // pulls the redundant joint toward mid-range
   double max_joint_step_rad = 0.01;   // per tick: the command never jumps
   int restarts = 2;                   // extra seeds (mid-range) when a solve does not converge
+  // Where a target comes with an approach direction (a finger touching: into the object), the
+  // redundancy also turns the fingertip's axis toward it, so that the tip touches with its front
+  // and not with the side beside its link (0: mid-range only).
+  double approach_gain = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -20,6 +24,7 @@ struct IkParams {
     a->Visit(DMPL_NVP(nullspace_gain), AtLeast(0));
     a->Visit(DMPL_NVP(max_joint_step_rad), Above(0));
     a->Visit(DMPL_NVP(restarts), AtLeast(0));
+    a->Visit(DMPL_NVP(approach_gain), AtLeast(0));
   }
   void Validate(const std::string& source) const { CheckBounds(*this, source, "ik"); }
 };

@@ -45,6 +45,18 @@ void FingerKinematics::TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* ti
   *jac = jac_kdl_.data.topRows<3>();
 }
 
+void FingerKinematics::TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis,
+                                Eigen::Matrix3Xd* omega) const {
+  q_kdl_.data = q;
+  KDL::Frame frame;
+  DMPL_DEMAND(fk_->JntToCart(q_kdl_, frame) >= 0);
+  const KDL::Vector z = frame.M.UnitZ();
+  *axis = Eigen::Vector3d(z.x(), z.y(), z.z());
+  // KDL's Jacobian: its angular rows are the joints' axes in the base frame.
+  DMPL_DEMAND(jac_->JntToJac(q_kdl_, jac_kdl_) >= 0);
+  *omega = jac_kdl_.data.bottomRows<3>();
+}
+
 HandKinematics::HandKinematics(const HandModel& model) {
   const KDL::Tree tree = UrdfToKdlTree(model);
   const std::string& root = model.links()[0].name;

@@ -27,6 +27,10 @@ class FingerKinematics {
   Eigen::Vector3d TipPosition(const Eigen::VectorXd& q) const;
   // Tip position and its 3 x n position Jacobian.
   void TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Matrix3Xd* jac) const;
+  // The fingertip's axis (the unit z of the tip frame: the distal link's direction, from its
+  // joint to the tip centre) in the palm frame, and each joint's rotation axis there (3 x n):
+  // the axis turns by omega_k x axis per unit of joint k.
+  void TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis, Eigen::Matrix3Xd* omega) const;
   // The link that joint j (0: the base) moves, as the URDF names it.
   const std::string& LinkAfterJoint(int j) const { return links_after_joints_[j]; }
 

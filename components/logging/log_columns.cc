@@ -185,15 +185,17 @@ bool AddSensors(LogColumns::Channel* ch, const hand_sensors_t& m) {
   t.PutArray("joint_velocity", m.joints.velocity.data(), {nj});
   t.PutArray("joint_effort", m.joints.effort.data(), {nj});
   std::vector<int8_t> contact;
-  std::vector<double> force, position, normal;
+  std::vector<double> force, link_force, position, normal;
   for (const auto& f : m.tactile.fingers) {
     contact.push_back(f.in_contact);
     force.push_back(f.force_n);
+    link_force.push_back(f.link_force_n);
     position.insert(position.end(), f.position, f.position + 3);
     normal.insert(normal.end(), f.normal, f.normal + 3);
   }
   t.PutBools("tactile_in_contact", contact);
   t.PutArray("tactile_force", force.data(), {nf});
+  t.PutArray("tactile_link_force", link_force.data(), {nf});
   t.PutArray("tactile_position", position.data(), {nf, 3});
   t.PutArray("tactile_normal", normal.data(), {nf, 3});
   t.EndRow();

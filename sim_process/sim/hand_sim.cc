@@ -168,6 +168,8 @@ struct HandSim::World {
   std::vector<int> bullet_link_of_joint;                    // actuated joint -> Bullet link
   std::vector<std::vector<int>> subtree;                    // actuated joint -> Bullet links
   std::vector<const btCollisionObject*> tip_colliders;      // per finger
+  // The fingers' other links (each with its finger): what touches them is truth only.
+  std::vector<std::pair<const btCollisionObject*, int>> link_colliders;
   btAlignedObjectArray<btQuaternion> scratch_q;
   btAlignedObjectArray<btVector3> scratch_v;
 
@@ -339,6 +341,27 @@ void HandSim::AddJointLimits() {
     }
     w.tip_colliders.push_back(tip);
   }
+  w.link_colliders.clear();
+  for (size_t f = 0; f < model_.fingers().size(); ++f) {
+    for (const int link : model_.fingers()[f].links) {
+      if (link == model_.fingers()[f].tip_link) continue;
+      const btMultiBodyLinkCollider* c = w.hand->getLink(link - 1).m_collider;
+      if (c != nullptr) w.link_colliders.emplace_back(c, static_cast<int>(f));
+    }
+  }
+}
+
+// A contact of the object with a finger's link other than its tip: its force, as truth (no
+// sensor reads it; the controller infers it from the joints' efforts).
+void HandSim::AddLinkForce(const btPersistentManifold& manifold, const btCollisionObject* link,
+                           double dt) {
+  const auto& colliders = world_->link_colliders;
+  const auto it = std::find_if(colliders.begin(), colliders.end(),
+                               [link](const auto& c) { return c.first == link; });
+  if (it == colliders.end()) return;  // the palm
+  for (int i = 0; i < manifold.getNumContacts(); ++i) {
+    tactile_[it->second].link_force += std::max(0.0, manifold.getContactPoint(i).getAppliedImpulse() / dt);
+  }
 }
 
 void HandSim::AddObject() {
@@ -494,7 +517,10 @@ void HandSim::ReadTactile() {
     if (!tip_is_a && a != w.object.get()) continue;
     const btCollisionObject* tip = tip_is_a ? a : b;
     const auto it = std::find(w.tip_colliders.begin(), w.tip_colliders.end(), tip);
-    if (it == w.tip_colliders.end()) continue;
+    if (it == w.tip_colliders.end()) {
+      AddLinkForce(*manifold, tip, dt);
+      continue;
+    }
     const size_t f = it - w.tip_colliders.begin();
     for (int i = 0; i < manifold->getNumContacts(); ++i) {
       const btManifoldPoint& pt = manifold->getContactPoint(i);

@@ -11,6 +11,9 @@
 #include "components/hand/hand_model.h"
 #include "sim_process/sim/sim_params.h"
 
+class btCollisionObject;
+class btPersistentManifold;
+
 namespace dmpl {
 
 // The simulator's true state, read by its node (the sensed layer's readings, what the noise
@@ -31,6 +34,7 @@ struct TipState {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();    // object -> fingertip
   double force = 0.0;                                  // normal force, N
   int points = 0;
+  double link_force = 0.0;  // on the finger's other links, N: truth that no sensor reads
 };
 
 class HandSim {
@@ -81,6 +85,7 @@ class HandSim {
   void SetInitialState();
   void ApplyServoTorques();
   void ReadTactile();
+  void AddLinkForce(const btPersistentManifold& manifold, const btCollisionObject* link, double dt);
 
   const HandModel& model_;
   SimParams sim_;

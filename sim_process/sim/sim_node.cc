@@ -123,6 +123,7 @@ class SimNode : public Node, private SimLoop {
       c.in_contact = tips[f].in_contact;
       c.force_n = tips[f].force;
       c.num_points = static_cast<int16_t>(tips[f].points);
+      c.link_force_n = tips[f].link_force;
       for (int i = 0; i < 3; ++i) {
         c.position[i] = tips[f].position[i];
         c.normal[i] = tips[f].normal[i];

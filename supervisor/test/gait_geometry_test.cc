@@ -28,6 +28,33 @@ struct Ring {
   ControllerView view;
 };
 
+TEST(GaitGeometryTest, TheExplorersPointLiesOnTheFeltSurfaceWhereItIsKnown) {
+  // Homes 3.7 cm from the centre (a 2.5 cm sphere and 1.2 cm tips); the object is a box 2 cm
+  // from its centre along +y (a face felt at many points), unexplored elsewhere.
+  const Ring ring(0.037);
+  const GaitGeometry g = ring.Geometry(0.0);
+  SurfaceModel surface;
+  for (double u = -0.008; u <= 0.008; u += 0.004) {
+    for (double v = -0.008; v <= 0.008; v += 0.004) {
+      surface.Add(Eigen::Isometry3d::Identity(), Eigen::Vector3d(u, 0.02, v),
+                  Eigen::Vector3d::UnitY(), 0.0);
+    }
+  }
+  const Eigen::AngleAxisd none(0.0, Eigen::Vector3d::UnitX());
+  // Finger 0 (home along +y): on the face, a tip radius out, not at the home's 3.7 cm.
+  const Eigen::Vector3d on_face = g.ExplorePoint(0, none, ring.view, surface, 0.012);
+  EXPECT_NEAR(on_face.y(), 0.032, 1e-9);
+  EXPECT_NEAR(on_face.z(), 0.0, 1e-9);
+  // Where nothing was felt (finger 2, along -y), or before any tip radius is known: the home.
+  EXPECT_TRUE(g.ExplorePoint(2, none, ring.view, surface, 0.012).isApprox(ring.home[2]));
+  EXPECT_TRUE(g.ExplorePoint(0, none, ring.view, surface, 0.0).isApprox(ring.home[0]));
+  // The model is in the object's frame: turned with the object, the face turns with it.
+  ControllerView turned = ring.view;
+  turned.object.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).matrix();
+  const Eigen::Vector3d to_z = g.ExplorePoint(1, none, turned, surface, 0.012);  // home +z
+  EXPECT_NEAR(to_z.z(), 0.032, 1e-9);
+}
+
 TEST(GaitGeometryTest, FingersStandAroundThePalmAxisOnly) {
   const GaitGeometry g = Ring(0.025).Geometry(0.03);
   EXPECT_TRUE(g.AroundFingers(Eigen::Vector3d::UnitX()));

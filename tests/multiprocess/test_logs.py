@@ -306,10 +306,18 @@ class SummariesTest(unittest.TestCase):
         folder = Path(tempfile.mkdtemp(prefix="dmpl_cases_"))
         cases_file = folder / "cases.yaml"
         cases_file.write_text(f"base: {FIG8}\ncases:\n  - {{name: nominal}}\n"
-                              "  - {name: heavy, set: {object.mass: 0.1}}\n")
+                              "  - {name: heavy, set: {object.mass: 0.1}}\n"
+                              "  - {name: no_such_shape, set: {object.shape: pyramid}}\n")
         trials, rate = run_sweep(cases_file, 1, 2, folder / "out", cases=load_cases(cases_file))
-        self.assertEqual([t["case"] for t in trials], ["nominal", "heavy"])
-        self.assertEqual([t["object_mass_kg"] for t in trials], [0.05, 0.1])
+        self.assertEqual([t["case"] for t in trials], ["nominal", "heavy", "no_such_shape"])
+        self.assertEqual([t.get("object_mass_kg") for t in trials[:2]], [0.05, 0.1])
+        # A case that cannot run is a row that says why.
+        self.assertNotEqual(trials[2]["status"], "success")
+        self.assertIn("pyramid", " ".join(trials[2]["problems"]))
+        row = [r for r in (folder / "out/sweep.md").read_text().splitlines()
+               if r.startswith("| no_such_shape | 1 |")]
+        self.assertEqual(len(row), 1)
+        self.assertIn("pyramid", row[0])
         doc = json.loads((folder / "out/sweep.json").read_text())
         self.assertEqual(doc["cases"]["heavy"]["trials"], 1)
         self.assertAlmostEqual(doc["cases"]["heavy"]["object_weight_n"], 0.981)

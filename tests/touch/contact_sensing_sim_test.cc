@@ -1,6 +1,7 @@
 // What touch tells of the surface (components/controller/contact_sensing.h) against the
 // simulator's truth: the normal from the tip geometry and the sensed joints against Bullet's
-// contact normal, and no link contact found while only the tips touch.
+// contact normal, no link contact found while only the tips touch, and one found (and in the
+// simulator's truth) when a finger flexes its middle link into the object.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -48,6 +49,7 @@ TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouch
                                              tip.force, n.normal, 0.1);
     EXPECT_EQ(link.joint, -1) << kin.finger(f).name() << ": " << link.link << " "
                               << link.torque_nm << " N m";
+    EXPECT_EQ(tip.link_force, 0.0) << kin.finger(f).name() << ": the simulator's truth";
     // The check can tell: the tip force taken the wrong way round leaves twice J^T f.
     EXPECT_NE(FindLinkContact(kin, f, joints.position, joints.effort, tip.force,
                               -n.normal, 0.1)
@@ -55,6 +57,54 @@ TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouch
               -1)
         << kin.finger(f).name();
   }
+}
+
+// A held sphere beside the forefinger's middle link, the finger flexing into it: the simulator's
+// truth names a force on the finger's links (no tip touches), and the joints' efforts find it.
+TEST(LinkContactSimTest, AFingerFlexedIntoAnObjectTouchesWithItsLink) {
+  const HandModel model = LoadHand();
+  const HandKinematics kin(model);
+  const int f = kin.FindFinger("F");
+  const std::vector<int>& joints = kin.joint_indices(f);
+  // Every joint as near straight as its limits allow; the forefinger's proximal joint flexed
+  // a little.
+  std::vector<double> q(model.num_actuated(), 0.0);
+  for (int k = 0; k < kin.num_fingers(); ++k) {
+    for (int j = 0; j < kin.finger(k).num_joints(); ++j) {
+      q[kin.joint_indices(k)[j]] =
+          std::clamp(0.0, kin.finger(k).lower()[j], kin.finger(k).upper()[j]);
+    }
+  }
+  q[joints[1]] = 0.2;
+  Eigen::Vector3d axis;
+  Eigen::Matrix3Xd omega;
+  kin.finger(f).TipAxis(kin.FingerJoints(f, q), &axis, &omega);
+  // The middle of the middle link (3.84 cm), 2.67 cm + 1.92 cm behind the tip centre; the
+  // sphere (1.5 cm) 2 mm beyond the link's side (0.9 cm), the way the finger flexes.
+  const Eigen::Vector3d middle = kin.TipPosition(f, q) - (0.0267 + 0.0192) * axis;
+  const Eigen::Vector3d flexes = omega.col(1).normalized().cross(axis);
+  ObjectParams object;
+  object.radius = 0.015;
+  const Eigen::Vector3d centre = middle + (0.009 + 0.015 + 0.002) * flexes;
+  object.position = {centre.x(), centre.y(), centre.z()};
+  HandSim hand(model, testing::StaticGraspSim(), object);
+  hand.SetJointPositions(q);
+  std::vector<double> target = q;
+  target[joints[2]] = 0.4;  // the middle link swings into the sphere
+  std::string why;
+  ASSERT_TRUE(hand.SetJointTargets(target, &why)) << why;
+  for (int i = 0; i < 500; ++i) hand.Step();
+  const TipState& tip = hand.tactile()[f];
+  EXPECT_FALSE(tip.in_contact);
+  EXPECT_GT(tip.link_force, 0.1);
+  for (int k = 0; k < kin.num_fingers(); ++k) {
+    if (k == f) continue;
+    EXPECT_EQ(hand.tactile()[k].link_force, 0.0) << kin.finger(k).name();
+  }
+  const JointState state = hand.joints();
+  const LinkContact link = FindLinkContact(kin, f, state.position, state.effort, 0.0,
+                                           Eigen::Vector3d::Zero(), 0.1);
+  EXPECT_EQ(link.joint, 2) << link.link << " " << link.torque_nm << " N m";
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ContactSensingSimTest, ::testing::Values("sphere", "ellipsoid"));

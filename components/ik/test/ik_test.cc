@@ -61,6 +61,38 @@ TEST(FingerIkTest, UnreachableTargetsGiveBestEffortWithinLimits) {
   }
 }
 
+TEST(FingerIkTest, AnApproachDirectionTurnsTheTipsAxisAtTheSameTipPosition) {
+  // The middle finger holds its tip where it is; asked to point its tip 60 deg further round
+  // (into an object it touches with the side of its tip), the redundancy turns the distal link
+  // toward that direction and the tip stays within the IK's tolerance.
+  const HandModel model = LoadHand();
+  const HandKinematics kin(model);
+  const FingerKinematics& finger = kin.finger(kin.FindFinger("M"));
+  Eigen::VectorXd q(4);
+  q << 0.0, 0.35, 1.2, 1.05;  // a grasp posture (the middle finger over a sphere)
+  const Eigen::Vector3d tip = finger.TipPosition(q);
+  Eigen::Vector3d axis;
+  Eigen::Matrix3Xd omega;
+  finger.TipAxis(q, &axis, &omega);
+  // Into the object: 60 deg from the tip's axis, in the finger's plane of flexion.
+  const Eigen::Vector3d bend = omega.col(1).normalized();
+  const Eigen::Vector3d approach = Eigen::AngleAxisd(1.05, bend) * axis;
+  IkParams params;
+  params.approach_gain = 0.2;
+  Eigen::VectorXd now = q;
+  for (int tick = 0; tick < 300; ++tick) now = SolveFingerIk(finger, now, tip, params, approach).q;
+  Eigen::Vector3d turned;
+  finger.TipAxis(now, &turned, &omega);
+  EXPECT_LT((finger.TipPosition(now) - tip).norm(), params.tolerance_m);
+  EXPECT_LT(std::acos(turned.dot(approach)), std::acos(axis.dot(approach)) - 0.3)
+      << "the axis turned from " << std::acos(axis.dot(approach)) << " rad from the approach to "
+      << std::acos(turned.dot(approach));
+  // Without a gain, or without a direction, the posture is the mid-range pull's alone.
+  params.approach_gain = 0.0;
+  EXPECT_EQ(SolveFingerIk(finger, q, tip, params, approach).q,
+            SolveFingerIk(finger, q, tip, params).q);
+}
+
 TEST(HandIkTest, StepIsBoundedNanIsRejectedAndHoldHolds) {
   const HandModel model = LoadHand();
   const HandKinematics kin(model);

@@ -133,6 +133,9 @@ class LogData:
         nf = len(self.fingers)
         self.tactile = Series(_t(truth), {
             "force": _get(truth, "tactile_force", (nf,)),
+            # NaN in logs from before the simulator published it.
+            "link_force": _get(truth, "tactile_link_force", (nf,)) if "tactile_link_force" in truth
+            else np.full((len(_t(truth)), nf), np.nan),
             "in_contact": _get(truth, "tactile_in_contact", (nf,), bool)})
         self._read_sim(columns)
         self._read_supervisor(columns)
@@ -186,6 +189,7 @@ class LogData:
             "finished": _get(sup, "finished", (), bool),
             "failed": _get(sup, "failed", (), bool),
             "last_action": list(sup.get("last_action", [""] * len(_t(sup)))),
+            "note": list(sup.get("note", [""] * len(_t(sup)))),
             "goals_reached": _get(sup, "goals_reached", (), int),
             "has_orientation_goal": _get(sup, "has_orientation_goal", (), bool),
             "orientation_goal": _get(sup, "orientation_goal", (4,)),

@@ -25,6 +25,9 @@ Definitions (the run's config section `metrics` sets the thresholds):
 - grip_force_rms_error_n: RMS of the grip fingers' truth force against the force asked of them.
 - contacts_lost: grip fingers (per the supervisor's roles; every finger without a supervisor)
   whose contact disappears for longer than contact_loss_s while the object is held.
+- link_contact_s: how long, from task begin, the object touched a finger's link other than its
+  tip (truth: the simulator's force on those links above link_contact_n), the posture the
+  controller infers from the joints' efforts (LINK_CONTACT events) and the gait avoids.
 - rotation_rate_rad_s (gait runs): turning about task.axis, the truth rotation from the first
   rotation step the supervisor commands until the object first comes within
   rate_goal_tolerance_rad of task.angle (the end of the run if it never does), divided by that
@@ -45,7 +48,7 @@ ROLE_EXPLORE = 2
 # The fields the metrics read, per channel (None: every field); the recorder extracts these.
 COLUMNS = {
     channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
-                            "tactile_force", "tactile_in_contact"],
+                            "tactile_force", "tactile_in_contact", "tactile_link_force"],
     channels.CONTROLLER_STATUS: ["utime", "seq", "role", "desired_force"],
     channels.CONTROLLER_REPORT: ["utime", "seq", "role", "desired_force"],
     channels.SUPERVISOR_STATUS: None, channels.TASK: None, channels.SIM_STATUS: None,
@@ -120,6 +123,7 @@ def compute(data, config):
         summary["grip_force_total_n"] = float(total.mean()) if held.any() else 0.0
         summary["grip_force_peak_n"] = float(total.max(initial=0.0))
         summary["contacts_lost"] = _contacts_lost(data, t_release, m["contact_loss_s"])
+        summary["link_contact_s"] = _link_contact_time(tact, t_begin, m["link_contact_n"])
     if len(sup):
         summary["regrasps"] = int(sup["regrasps"][-1])
         summary["rotation_commanded_rad"] = float(sup["rotation_commanded"][-1])
@@ -195,9 +199,14 @@ def _goals(data, t_begin):
 
 
 def _supervisor_verdict(sup):
-    return {"supervisor_state": sup["grasp_state"][-1],
-            "supervisor_finished": bool(sup["finished"][-1]),
-            "supervisor_failed": bool(sup["failed"][-1])}
+    verdict = {"supervisor_state": sup["grasp_state"][-1],
+               "supervisor_finished": bool(sup["finished"][-1]),
+               "supervisor_failed": bool(sup["failed"][-1])}
+    if verdict["supervisor_failed"]:
+        # Why: the supervisor's note when it failed (it keeps it from then on).
+        notes = [n for n in sup["note"] if n]
+        verdict["supervisor_reason"] = str(notes[-1]) if notes else "no reason given"
+    return verdict
 
 
 def _longest_false_run(flags, times):
@@ -226,6 +235,18 @@ def _roles_at(data, times):
         if j is not None:
             roles[:, k] = sup["roles"][idx, j]
     return roles
+
+
+def _link_contact_time(tact, t_begin, threshold_n):
+    link = tact["link_force"]
+    if np.isnan(link).all():
+        return None  # a log from before the simulator published it
+    after = tact.t >= t_begin
+    touching = (link[after] > threshold_n).any(axis=1)
+    if touching.size < 2:
+        return 0.0
+    dt = np.diff(tact.t[after])
+    return float((dt * touching[:-1]).sum())
 
 
 def _contacts_lost(data, t_release, min_gap):

@@ -160,7 +160,8 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     if summary.get("object_dropped") and not config["metrics"]["allow_drop"]:
         problems.append("object dropped")
     if summary.get("supervisor_failed"):
-        problems.append("supervisor failed")
+        reason = summary.get("supervisor_reason")
+        problems.append("supervisor failed" + (f" ({reason})" if reason else ""))
     if "supervisor_finished" in summary and not summary["supervisor_finished"]:
         problems.append("supervisor did not finish its tasks")
     if (summary.get("log_missing_ticks") or 0) > 0:

@@ -48,7 +48,9 @@ COLUMNS = [("seed", "seed", "{}"), ("status", "status", "{}"),
            ("regrasps", "regrasps", "{}"), ("object_dropped", "dropped", "{}"),
            ("rotation_rate_rad_s", "rate (rad/s)", "{:.3f}"), ("goals_reached", "goals", "{}"),
            ("time_per_goal_median_s", "s per goal", "{:.2f}"),
-           ("sim_time_s", "sim time (s)", "{:.1f}"), ("realtime_factor", "RTF", "{:.2f}")]
+           ("link_contact_s", "link touch (s)", "{:.2f}"),
+           ("sim_time_s", "sim time (s)", "{:.1f}"), ("realtime_factor", "RTF", "{:.2f}"),
+           ("problems", "why not a success", "{}")]
 
 
 @dataclass
@@ -93,6 +95,8 @@ def load_cases(path):
 
 def _cell(summary, key, fmt):
     v = summary.get(key)
+    if key == "problems":  # why a trial failed or errored, in one cell
+        return "; ".join(map(str, v)).replace("|", "/") if v else ""
     if v is None:
         return "-"
     try:
@@ -197,10 +201,14 @@ def run_trial(spec):
         done = finished_trial(run_dir, spec)
         if done is not None:
             return done
-    summary, _ = run_experiment(spec["config"], run_dir, seed=spec["seed"], sets=spec["sets"],
-                                params=spec["params"], lcm_url=spec["url"], echo=False,
-                                one_process=spec["one_process"], record=spec["record"],
-                                cpus=spec.get("cpus"))
+    try:
+        summary, _ = run_experiment(spec["config"], run_dir, seed=spec["seed"],
+                                    sets=spec["sets"], params=spec["params"], lcm_url=spec["url"],
+                                    echo=False, one_process=spec["one_process"],
+                                    record=spec["record"], cpus=spec.get("cpus"))
+    except (experiment.ExperimentError, OSError, ValueError) as e:
+        # A trial that cannot run is a row that says why, not a sweep that stops.
+        summary = {"status": "error", "seed": spec["seed"], "problems": [str(e)]}
     if spec["case"] is not None:
         summary["case"] = spec["case"]
     return summary
