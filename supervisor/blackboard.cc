@@ -9,6 +9,7 @@ namespace dmpl {
 Blackboard::Blackboard(std::vector<std::string> finger_names)
     : fingers(std::move(finger_names)),
       reached(fingers.size(), false),
+      link_touched(fingers.size(), false),
       home(fingers.size(), Eigen::Vector3d::Zero()) {
   out.task.fingers.resize(fingers.size());
   out.task.name = "idle";

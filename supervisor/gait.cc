@@ -86,6 +86,11 @@ void Gait::Explore(const std::string& finger) {
   const Eigen::AngleAxisd turn(ExploreBack(f, axis, sign, four), axis);
   explore_.point =
       geometry_.ExplorePoint(f, turn, board_->view, board_->surface, board_->tip_radius_m);
+  if (params_.max_contact_angle_rad > 0) {
+    explore_.point = geometry_.TowardTipFront(f, explore_.point, board_->view, board_->surface,
+                                              board_->tip_radius_m, params_.max_contact_angle_rad);
+  }
+  board_->link_touched[f] = false;
   explore_.axis = axis;
   explore_.spaced = spaced;
   explore_.neighbour_rides = !four;
@@ -128,6 +133,7 @@ void Gait::Rotate(const std::vector<std::string>& /*grippers*/) {
     step_ = geometry_.StepWithinReach(to_goal.axis, step_, skip, board_->view);
     ChooseNextExplorer(to_goal.axis, step_ + StepSize(), skip);
   }
+  PreferFingerAtRisk(regrasp_.exploring() ? explorer_ : -1);
   goal_->Aim((Eigen::AngleAxisd(step_, to_goal.axis) * board_->SensedOrientation())
                  .toRotationMatrix(),
              step_, StepSpeed());
@@ -139,6 +145,25 @@ void Gait::Grip(const std::string& finger) {
   board_->NewTask(regrasp_.last_action());
   board_->SetFinger(board_->Finger(finger), Role::kGrip, Primitive::kComposite);
   if (LimitDeviation()) ChooseNextExplorer(StepAxis(), StepSize(), -1);
+  PreferFingerAtRisk(-1);
+}
+
+void Gait::PreferFingerAtRisk(int skip) {
+  if (params_.max_contact_angle_rad <= 0) return;
+  int worst = -1;
+  double most = 0.0;
+  for (int k = 0; k < board_->num_fingers(); ++k) {
+    const FingerView& v = board_->view.fingers[k];
+    if (k == skip || !v.in_contact) continue;
+    // A link's touch outweighs any angle; beyond the angle, the further the worse.
+    const double risk = (board_->link_touched[k] ? M_PI : 0.0) +
+                        std::max(0.0, v.ContactAngle() - params_.max_contact_angle_rad);
+    if (risk > most) {
+      most = risk;
+      worst = k;
+    }
+  }
+  if (worst >= 0) regrasp_.set_next_explorer(board_->fingers[worst]);
 }
 
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {

@@ -69,6 +69,9 @@ class Gait : private RegraspActions {
   double StepSize() const;           // the task's step, or less (GaitGeometry::StepLimit)
   bool StepDone(double in_phase) const;
   void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
+  // params.max_contact_angle_rad: the finger (not `skip`) that touched with a link since it
+  // explored, else the one touching furthest beyond the angle, explores next.
+  void PreferFingerAtRisk(int skip);
   bool LimitDeviation() const {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }

@@ -88,6 +88,38 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
   return centre + to_palm * (s.point + tip_radius_m * s.normal);
 }
 
+Eigen::Vector3d GaitGeometry::TowardTipFront(int f, const Eigen::Vector3d& point,
+                                             const ControllerView& view,
+                                             const SurfaceModel& surface, double tip_radius_m,
+                                             double max_angle, double most) const {
+  const Eigen::Vector3d centre = view.object.translation();
+  const Eigen::Matrix3d to_palm = view.object.linear();
+  const Eigen::Vector3d& axis = view.fingers[f].tip_axis;
+  const Eigen::Vector3d d = (point - centre).normalized();
+  // Toward the base: minus the tip's axis, across the direction from the centre.
+  const Eigen::Vector3d back = -axis + axis.dot(d) * d;
+  if (back.norm() < 1e-6 || tip_radius_m <= 0) return point;
+  const Eigen::Vector3d about = d.cross(back).normalized();
+  constexpr double kStep = 0.05;
+  Eigen::Vector3d best = point;
+  double best_angle = M_PI;
+  for (double a = 0.0; a <= most + 1e-9; a += kStep) {
+    const Eigen::Vector3d dir = Eigen::AngleAxisd(a, about) * d;
+    const SurfacePoint s = surface.Along(to_palm.transpose() * dir);
+    // Unfelt surface: as far as the point, facing out from the centre.
+    const Eigen::Vector3d normal = s.known ? Eigen::Vector3d(to_palm * s.normal) : dir;
+    const double distance = s.known ? s.distance_m : (point - centre).norm() - tip_radius_m;
+    const double angle = std::acos(std::clamp(-normal.dot(axis), -1.0, 1.0));
+    const Eigen::Vector3d candidate = centre + distance * dir + tip_radius_m * normal;
+    if (angle <= max_angle) return a == 0.0 ? point : candidate;
+    if (angle < best_angle) {
+      best_angle = angle;
+      best = candidate;
+    }
+  }
+  return best;
+}
+
 double GaitGeometry::LimitBack(int f, const Eigen::Vector3d& axis, double back) const {
   const Eigen::Vector3d home = (home_[f] - home_centre_).normalized();
   const double sin_beta = axis.normalized().cross(home).norm();

@@ -37,6 +37,14 @@ class GaitGeometry {
   // (else at the home's distance from the centre).
   Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn, const ControllerView& view,
                                const SurfaceModel& surface, double tip_radius_m) const;
+  // The explorer `f`'s `point` (tip centre), moved along the felt surface toward the finger's
+  // base (against its tip's axis) in steps of a few degrees about the centre until the surface's
+  // normal there lies within `max_angle` of the tip's axis as it stands now (the point where
+  // it would touch with its front, not the side next to its link); the point itself if it
+  // does, or the best found within `most` rad.
+  Eigen::Vector3d TowardTipFront(int f, const Eigen::Vector3d& point, const ControllerView& view,
+                                 const SurfaceModel& surface, double tip_radius_m,
+                                 double max_angle, double most = 0.6) const;
   // `back` (rad about `axis`), no further than the deviation allows finger `f` from its home:
   // a turn by phi about the axis moves a point at beta from it by 2 asin(sin(beta) sin(phi/2)).
   double LimitBack(int f, const Eigen::Vector3d& axis, double back) const;

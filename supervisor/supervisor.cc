@@ -105,6 +105,9 @@ void Supervisor::OnControllerEvents(const std::vector<ControllerEvent>& events) 
       case EventType::kMotionDone:
         board_.motion_done_event = true;
         break;
+      case EventType::kLinkContact:
+        if (e.finger >= 0) board_.link_touched[e.finger] = true;
+        break;
       case EventType::kContactLost:
         if (e.finger >= 0 && board_.out.task.fingers[e.finger].role == Role::kGrip &&
             grasp_.is(GraspState::Tasks)) {

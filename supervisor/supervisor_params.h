@@ -44,6 +44,11 @@ struct TaskParams {
   // an explorer goes back at most this far, a step turns at most what keeps the fingers that
   // ride it within it, and the next explorer is the finger the next step would take furthest.
   double max_finger_deviation_rad = 0.0;
+  // With this > 0 (rad): a grip finger that touches further round its tip than this
+  // (FingerView::ContactAngle), or that touched with a link since it last explored, explores
+  // next; and an explorer's point is moved along the felt surface toward the finger's base
+  // until the surface's normal there lies within this of its tip's axis.
+  double max_contact_angle_rad = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -64,6 +69,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explore_force_n), AtLeast(0));
     a->Visit(DMPL_NVP(explore_travel), AtLeast(0));
     a->Visit(DMPL_NVP(max_finger_deviation_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(max_contact_angle_rad), InRange(0, 3.141592653589793));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations

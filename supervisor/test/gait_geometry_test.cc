@@ -55,6 +55,34 @@ TEST(GaitGeometryTest, TheExplorersPointLiesOnTheFeltSurfaceWhereItIsKnown) {
   EXPECT_NEAR(to_z.z(), 0.032, 1e-9);
 }
 
+TEST(GaitGeometryTest, AnExplorersPointMovesTowardItsBaseUntilItsTipFacesTheSurface) {
+  // A 2.5 cm sphere felt all round; finger 0 stands along +y with its tip's axis pointing down
+  // (-z: its base above, like the forefinger over the object's side).
+  Ring ring(0.037);
+  ring.view.fingers[0].tip_axis = -Eigen::Vector3d::UnitZ();
+  const GaitGeometry g = ring.Geometry(0.0);
+  SurfaceModel surface;
+  for (int i = 0; i < 400; ++i) {
+    const double a = 0.37 * i, b = std::asin(2.0 * ((i * 0.618) - std::floor(i * 0.618)) - 1.0);
+    const Eigen::Vector3d d(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
+    surface.Add(Eigen::Isometry3d::Identity(), 0.025 * d, d, 0.0);
+  }
+  // Its point 0.3 rad below the equator: the normal there is 90 + 17 deg from its axis.
+  const Eigen::Vector3d below =
+      0.037 * Eigen::Vector3d(0.0, std::cos(0.3), -std::sin(0.3));
+  const double limit = M_PI / 2;  // touch no further round than its side
+  const Eigen::Vector3d moved = g.TowardTipFront(0, below, ring.view, surface, 0.012, limit);
+  // Moved up to the equator, within one search step (0.05 rad) and the felt normal's error.
+  const double elevation = std::asin(moved.z() / moved.norm());
+  EXPECT_GE(elevation, -0.06);
+  EXPECT_LE(elevation, 0.06);
+  EXPECT_NEAR(moved.norm(), 0.037, 1.5e-3);  // on the felt surface, a tip radius out
+  // A point already within the angle stays where it is.
+  const Eigen::Vector3d above =
+      0.037 * Eigen::Vector3d(0.0, std::cos(0.2), std::sin(0.2));
+  EXPECT_TRUE(g.TowardTipFront(0, above, ring.view, surface, 0.012, limit).isApprox(above));
+}
+
 TEST(GaitGeometryTest, FingersStandAroundThePalmAxisOnly) {
   const GaitGeometry g = Ring(0.025).Geometry(0.03);
   EXPECT_TRUE(g.AroundFingers(Eigen::Vector3d::UnitX()));

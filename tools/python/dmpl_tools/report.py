@@ -211,15 +211,32 @@ def plot_forces(data, path):
         for k, (t_event, kind, _, _) in enumerate(e for e in ctl["events"] if e[1] == controller_event_t.SLIP):
             ax.axvline(t_event, color="#d62728", lw=0.8,
                        label="slip detected" if f == 0 and k == 0 else None)
+        _plot_link_contacts(ax, data, f, name, first=f == 0)
         ax.set_ylabel(f"{name} (N)")
         ax.grid(alpha=0.3)
-    axes[0].set_title("Contact forces, finger roles shaded, the grip planned for the load "
-                      "(Fig. 10)")
+    axes[0].set_title("Contact forces, finger roles shaded, the grip planned for the load, "
+                      "links on the object (Fig. 10)")
     axes[0].legend(loc="upper right", fontsize=8)
     axes[-1].set_xlabel("time (s)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _plot_link_contacts(ax, data, f, name, first):
+    """Finger f's links (not its tip) on the object: the simulator's force (truth) and where the
+    controller inferred a link contact from the joints' efforts (LINK_CONTACT)."""
+    tact = data.tactile
+    link = tact["link_force"][:, f]
+    if np.isfinite(link).any() and (link > 0).any():
+        ax.plot(*thin(tact.t, link), "--", color="#000000", lw=0.7,
+                label="force on its links (truth)" if first else None)
+    found = [e[0] for e in data.controller["events"]
+             if e[1] == controller_event_t.LINK_CONTACT and e[2] == name]
+    if found:
+        ax.plot(found, np.full(len(found), 0.95), "v", color="#000000", ms=3,
+                transform=ax.get_xaxis_transform(),
+                label="link contact inferred" if first else None)
 
 
 def plot_states(data, path):
@@ -252,7 +269,8 @@ def plot_states(data, path):
 FIGURES = [("fig8a_orientation.png", "Object orientation against its target (Fig. 8a)"),
            ("fig8b_position.png", "Sensed (noisy) against true object position (Fig. 8b)"),
            ("fig9_exploration.png", "Exploration finger force (Fig. 9)"),
-           ("fig10_forces.png", "Contact forces with the finger roles shaded (Fig. 10)"),
+           ("fig10_forces.png", "Contact forces with the finger roles shaded, and the fingers' "
+                                "links on the object (Fig. 10)"),
            ("statechart.png", "Statechart states over time")]
 GOALS_FIGURE = ("goals.png", "Angle to the current goal orientation, goals reached marked")
 
@@ -261,7 +279,7 @@ HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "r
             "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
             "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n",
             "rotation_rate_rad_s", "goals_reached", "time_per_goal_median_s",
-            "time_per_goal_p90_s"]
+            "time_per_goal_p90_s", "link_contact_s"]
 
 
 def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=None):

@@ -10,7 +10,8 @@ for display only), each fingertip contact as a point with an arrow along its nor
 force (2 cm per N, into the translucent object), each fingertip coloured by its role (blue grip, orange explore, grey free),
 the sensed (noisy) object pose as a translucent ghost beside the true one, the target
 orientation (task) or the current goal orientation (goals) as a frame, the fingertip targets as
-small cubes (live: the points the supervisor sends them to), and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
+small cubes (live: the points the supervisor sends them to), a red ball at a finger's distal
+joint while the object presses on its links rather than its tip (the simulator's truth), and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
 
 The live view only listens, to the truth and sensed channels the simulator and the noise injector
 send for viewers at run.view_rate_hz (30 Hz) and the supervisor's status and task: it keeps the
@@ -41,6 +42,7 @@ from .paths import ROOT
 
 ROLE_COLOURS = {0: 0x9e9e9e, 1: 0x1f77b4, 2: 0xff9800}  # free, grip, explore
 ARROW_M_PER_N = 0.02
+LINK_TOUCH_N = 0.05  # truth force on a finger's links shown as a touch (metrics.link_contact_n)
 FIELDS = {
     channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
                             "joint_position", "tactile_force", "tactile_in_contact",
@@ -134,6 +136,9 @@ class Scene:
         except UrdfError as e:
             raise ViewError(str(e)) from None
         self.fingers = [f["name"] for f in hand_cfg.get("fingers", [])] or ["T", "F", "M", "R"]
+        # Each finger's distal link (the tip's parent): where a link touch is shown.
+        parents = {j.child: j.parent for j in self.hand.joints}
+        self.distal_links = {f: parents.get(f + "_tip") for f in self.fingers}
         sim = config.get("sim", {})
         self.palm = np.eye(4)
         self.palm[:3, :3] = rpy_matrix(*sim.get("palm_rpy", [0.0, -np.pi / 2, 0.0]))
@@ -181,6 +186,9 @@ class Scene:
                                                     g.MeshLambertMaterial(color=0x2e7d32))
             root["targets"][f].set_object(g.Box([0.004] * 3),
                                           g.MeshLambertMaterial(color=0x6a1b9a))
+            # Shown while the object presses on the finger's links (not its tip): truth.
+            root["link_touch"][f].set_object(g.Sphere(0.008), g.MeshLambertMaterial(
+                color=0xff1744, opacity=0.7, transparent=True))
 
     def _geometry(self, s):
         g = self.g
@@ -249,6 +257,12 @@ class Scene:
                 root["contacts"][f]["arrow"].set_transform(HIDDEN)
             target = frame["targets"][k] if frame.get("targets") is not None else None
             root["targets"][f].set_transform(_at(target) if target is not None else HIDDEN)
+            link_force = frame.get("link_force")
+            touching = link_force is not None and link_force[k] > LINK_TOUCH_N
+            # At the joint before the distal link: which link it is the log does not say.
+            knuckle = poses.get(self.distal_links.get(f), None)
+            root["link_touch"][f].set_transform(knuckle if touching and knuckle is not None
+                                                else HIDDEN)
 
 
 def _at(p):
@@ -299,6 +313,7 @@ def log_frames(data, config, fps):
              "joints": dict(zip(joints, truth["joint_position"][i])) if joints else {},
              "object_position": o["position"][i], "object_orientation": o["orientation"][i],
              "force": data.tactile["force"][i], "in_contact": data.tactile["in_contact"][i],
+             "link_force": data.tactile["link_force"][i],
              "contact_position": truth["tactile_position"][i],
              "contact_normal": truth["tactile_normal"][i],
              "roles": [1] * len(data.fingers), "rotation": float(rotation[i] - rotation[0])}
@@ -525,6 +540,7 @@ def live_frame(msgs, fingers, state):
          "object_orientation": np.array(s.object.orientation),
          "force": [by_name[n].force_n if n in by_name else 0.0 for n in fingers],
          "in_contact": [bool(by_name[n].in_contact) if n in by_name else False for n in fingers],
+         "link_force": [by_name[n].link_force_n if n in by_name else 0.0 for n in fingers],
          "contact_position": [np.array(by_name[n].position) if n in by_name else np.zeros(3)
                               for n in fingers],
          "contact_normal": [np.array(by_name[n].normal) if n in by_name else np.zeros(3)
