@@ -27,7 +27,11 @@ ContactNormal NormalFromTip(const Eigen::Vector3d& tip_centre, const Eigen::Vect
                             double tip_radius);
 
 struct LinkContact {
-  int joint = -1;            // the finger's joint (base first) the contact lies beyond; -1: none
+  // The finger's joint (base first) the contact lies beyond; -1: none. A contact on a link
+  // leaves no torque on the joints beyond it, but the joints before it may feel little of it
+  // (its line of force passes near their axes): the contact is on this joint's link or on one
+  // further out.
+  int joint = -1;
   std::string link;          // the link after it (URDF name)
   double torque_nm = 0.0;    // the unexplained torque at that joint
 };

@@ -172,8 +172,9 @@ void ManipulationController::DetectLinkContacts(const SensedInput& in,
     s.link_count = 0;
     if (raw) {
       Emit(EventType::kLinkContact, f, link.torque_nm,
-           kin_.finger(f).name() + " touches with its link " + link.link + " (" +
-               std::to_string(link.torque_nm) + " N m its tip does not explain)");
+           kin_.finger(f).name() + " touches with a link, " + link.link +
+               " or one further out (" + std::to_string(link.torque_nm) +
+               " N m its tip does not explain)");
     }
   }
 }
@@ -395,7 +396,9 @@ std::vector<Eigen::Vector3d> ManipulationController::TipPositions(const std::vec
   for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, q);
   tip_axes_.resize(nf);
   Eigen::Matrix3Xd omega;
-  for (int f = 0; f < nf; ++f) kin_.finger(f).TipAxis(kin_.FingerJoints(f, q), &tip_axes_[f], &omega);
+  for (int f = 0; f < nf; ++f) {
+    kin_.finger(f).TipAxis(kin_.FingerJoints(f, q), &tip_axes_[f], &omega);
+  }
   for (int f = 0; f < nf; ++f) {
     if (!fingers_[f].has_target) {
       fingers_[f].target = tips[f];

@@ -39,7 +39,8 @@ IkResult SolveFrom(const FingerKinematics& finger, const Eigen::VectorXd& seed,
     r.residual_m = e.norm();
     // A finger with an approach direction turns its axis a step each tick even while its tip
     // is where it should be.
-    const bool turning = r.iterations == 0 && params.approach_gain > 0 && approach.squaredNorm() > 0;
+    const bool turning =
+        r.iterations == 0 && params.approach_gain > 0 && approach.squaredNorm() > 0;
     if (r.residual_m < params.tolerance_m && !turning) break;
     Eigen::VectorXd dq;
     Eigen::VectorXi active = Eigen::VectorXi::Ones(n);

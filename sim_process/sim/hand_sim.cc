@@ -360,7 +360,8 @@ void HandSim::AddLinkForce(const btPersistentManifold& manifold, const btCollisi
                                [link](const auto& c) { return c.first == link; });
   if (it == colliders.end()) return;  // the palm
   for (int i = 0; i < manifold.getNumContacts(); ++i) {
-    tactile_[it->second].link_force += std::max(0.0, manifold.getContactPoint(i).getAppliedImpulse() / dt);
+    const double force = manifold.getContactPoint(i).getAppliedImpulse() / dt;
+    tactile_[it->second].link_force += std::max(0.0, force);
   }
 }
 

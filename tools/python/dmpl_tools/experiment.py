@@ -20,7 +20,7 @@ METRICS_DEFAULTS = {
     "drop_no_contact_s": 0.25,  # ...or no fingertip touched it for this long
     "allow_drop": False,        # the run's status ignores a drop (drop.yaml)
     "contact_loss_s": 0.05,     # a grip contact gone this long counts as lost
-    "link_contact_n": 0.05,     # truth force on a finger's links (not its tip) that counts as a touch
+    "link_contact_n": 0.05,     # truth force on a finger's links (not its tip): a touch
     "rate_goal_tolerance_rad": 0.05,  # rotation_rate_rad_s: the turn is done this close to it
 }
 
