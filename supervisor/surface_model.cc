@@ -16,7 +16,7 @@ void SurfaceModel::Add(const Eigen::Isometry3d& object, const Eigen::Vector3d& p
   if (!p.allFinite() || !n.allFinite() || p.norm() < 1e-6) return;
   // A sliding finger reports a contact every tick: keep one per few millimetres (the one kept
   // is seen again now).
-  for (Contact& c : contacts_) {
+  for (SurfaceContact& c : contacts_) {
     if ((c.point - p).norm() < params_.min_spacing_m) {
       c.time_s = time_s;
       return;
@@ -31,7 +31,7 @@ SurfacePoint SurfaceModel::Along(const Eigen::Vector3d& direction) const {
   const double inv_width2 = 1.0 / (params_.kernel_rad * params_.kernel_rad);
   double sum_w = 0.0, sum_w2 = 0.0, sum_t = 0.0, sum_t2 = 0.0;
   Eigen::Vector3d sum_n = Eigen::Vector3d::Zero();
-  for (const Contact& c : contacts_) {
+  for (const SurfaceContact& c : contacts_) {
     const double facing = c.normal.dot(d);
     if (facing < kMinFacing) continue;  // a plane seen edge-on (or from behind) says little
     const double w = std::exp((c.direction.dot(d) - 1.0) * inv_width2);

@@ -35,6 +35,12 @@ struct SurfacePoint {
   double support = 0.0;           // the kernel weight of the contacts behind it
 };
 
+// One contact the model keeps, in the object's frame.
+struct SurfaceContact {
+  Eigen::Vector3d point, normal, direction;  // direction = point normalized
+  double time_s;
+};
+
 class SurfaceModel {
  public:
   explicit SurfaceModel(SurfaceModelParams params = {}) : params_(params) {}
@@ -47,15 +53,11 @@ class SurfaceModel {
   // The surface along `direction` (object frame) from the object's centre.
   SurfacePoint Along(const Eigen::Vector3d& direction) const;
   size_t size() const { return contacts_.size(); }
+  const std::vector<SurfaceContact>& contacts() const { return contacts_; }  // oldest first
 
  private:
-  struct Contact {
-    Eigen::Vector3d point, normal, direction;  // object frame; direction = point normalized
-    double time_s;
-  };
-
   SurfaceModelParams params_;
-  std::vector<Contact> contacts_;  // oldest first
+  std::vector<SurfaceContact> contacts_;
 };
 
 }  // namespace dmpl

@@ -32,6 +32,8 @@ EXECUTABLES = {
     "dmpl_calibrate": (["LOG", "--out", "--report", "--config"], ["run.lcmlog"], ["--out"],
                        "--out"),
     "dmpl_hand_geometry": (["--config"], [], ["--config"], "--config"),
+    "dmpl_surface": (["LOG", "--directions"], ["run.lcmlog"], ["--directions", "0"],
+                     "--directions"),
     "dmpl_bench_sim": (["--config", "--warmup", "--steps"], [], ["--steps", "x"], "--steps"),
     "dmpl_bench_ik": (["--percentiles"], [], ["--percentiles=0"], "--percentiles"),
     "dmpl_bench_lcm_hop": (["echo", "ping"], ["ping"], ["ping", "--bytes", "many"], "--bytes"),

@@ -7,6 +7,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import struct
 import subprocess
@@ -107,8 +108,15 @@ class RecordPoliciesTest(unittest.TestCase):
             report = make_report(log, Path(tempfile.mkdtemp()) / "report")
             text = report.read_text()
             self.assertIn("| rotation_total_rad |", text)
-            for png in ("fig8a_orientation.png", "fig10_forces.png", "statechart.png"):
+            for png in ("fig8a_orientation.png", "fig10_forces.png", "statechart.png",
+                        "surface.png"):
                 self.assertGreater((report.parent / png).stat().st_size, 10_000)
+            # The four tips held the sphere where they took it: four places felt, too few
+            # contacts near any one direction to call the surface there known.
+            felt = re.search(r"\| surface felt \| (\d+) contacts kept; surface known along "
+                             r"(\d+) of 400 directions", text)
+            self.assertIsNotNone(felt, text)
+            self.assertGreaterEqual(int(felt.group(1)), 4)
 
     def test_online_metrics_equal_the_definitions_on_the_full_log(self):
         summary, out = self.runs["full"]

@@ -24,7 +24,7 @@ import numpy as np
 
 from dmpl import controller_event_t
 
-from . import channels, experiment, metrics
+from . import channels, experiment, metrics, surface
 from .logdata import (LogData, LogError, angle_between, cumulative_rotation, quat_conj,
                       quat_mul, rotation_vector, task_axis)
 
@@ -272,6 +272,8 @@ FIGURES = [("fig8a_orientation.png", "Object orientation against its target (Fig
            ("fig10_forces.png", "Contact forces with the finger roles shaded, and the fingers' "
                                 "links on the object (Fig. 10)"),
            ("statechart.png", "Statechart states over time")]
+SURFACE_FIGURE = ("surface.png", "The object's surface as the hand felt it (the supervisor's "
+                                  "model, object frame) against its true shape")
 GOALS_FIGURE = ("goals.png", "Angle to the current goal orientation, goals reached marked")
 
 HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
@@ -280,6 +282,22 @@ HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "r
             "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n",
             "rotation_rate_rad_s", "goals_reached", "time_per_goal_median_s",
             "time_per_goal_p90_s", "link_contact_s"]
+
+
+def name_of(config, log_path):
+    return config.get("experiment", {}).get("name", Path(log_path).stem)
+
+
+def _plot_surface(log_path, config, name, out, figures):
+    """The surface the supervisor learned by touch (surface.py), as a figure when it can be
+    drawn; returns what it says (or why not)."""
+    try:
+        note = surface.plot(surface.learned(log_path), config.get("object", {}),
+                            out / SURFACE_FIGURE[0], name)
+    except surface.SurfaceError as e:
+        return f"not drawn ({e})"
+    figures.append(SURFACE_FIGURE)
+    return note
 
 
 def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=None):
@@ -313,13 +331,15 @@ def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=N
     plot_exploration(data, out / FIGURES[2][0])
     plot_forces(data, out / FIGURES[3][0])
     plot_states(data, out / FIGURES[4][0])
-    name = config.get("experiment", {}).get("name", log_path.stem)
+    surface_note = _plot_surface(log_path, config, name_of(config, log_path), out, figures)
+    name = name_of(config, log_path)
     lines = [f"# dmpl report: {name}", "", f"Log: `{log_path}`", "", "| metric | value |",
              "| --- | --- |"]
     for key in HEADLINE:
         if key in summary:
             v = summary[key]
             lines.append(f"| {key} | {v:.4g} |" if isinstance(v, float) else f"| {key} | {v} |")
+    lines.append(f"| surface felt | {surface_note} |")
     for p in summary.get("problems", []):
         lines.append(f"| problem | {p} |")
     for w in summary.get("warnings", []):
