@@ -3,7 +3,7 @@ model (C++, `dmpl_surface`, the same Blackboard::LearnSurface the gait planned o
 object's frame against the true shape of the run's config (for display only: nothing of the
 object's shape reaches the controller or the supervisor).
 
-  python -m dmpl_tools.surface RUN/run.lcmlog [--out FIGURE.png]
+  tools/dmpl surface RUN/run.lcmlog [--out FIGURE.png]
 """
 import argparse
 import json
@@ -103,7 +103,7 @@ def plot(model, obj, path, title=""):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m dmpl_tools.surface", description=__doc__,
+    ap = argparse.ArgumentParser(prog="tools/dmpl surface", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("log", help="a run's log (RUN/run.lcmlog)")
     ap.add_argument("--out", help="the figure (default: RUN/surface.png)")
