@@ -195,6 +195,7 @@ def plot_forces(data, path):
     n = len(data.fingers)
     fig, axes = plt.subplots(n, 1, figsize=(8, 1.6 * n + 1), sharex=True, sharey=True)
     roles = _roles(data, tact.t)
+    labelled = set()  # the link-contact labels given (on the first finger that has each)
     for f, name in enumerate(data.fingers):
         ax = axes[f]
         for role, colour in ROLE_COLOURS.items():
@@ -211,32 +212,46 @@ def plot_forces(data, path):
         for k, (t_event, kind, _, _) in enumerate(e for e in ctl["events"] if e[1] == controller_event_t.SLIP):
             ax.axvline(t_event, color="#d62728", lw=0.8,
                        label="slip detected" if f == 0 and k == 0 else None)
-        _plot_link_contacts(ax, data, f, name, first=f == 0)
+        _plot_link_contacts(ax, data, f, name, labelled)
         ax.set_ylabel(f"{name} (N)")
         ax.grid(alpha=0.3)
     axes[0].set_title("Contact forces, finger roles shaded, the grip planned for the load, "
                       "links on the object (Fig. 10)")
-    axes[0].legend(loc="upper right", fontsize=8)
+    handles, labels = [], []
+    for ax in axes:  # one legend with every kind, wherever it first appears
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    axes[0].legend(handles, labels, loc="upper right", fontsize=8)
     axes[-1].set_xlabel("time (s)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
-def _plot_link_contacts(ax, data, f, name, first):
+def _plot_link_contacts(ax, data, f, name, labelled):
     """Finger f's links (not its tip) on the object: the simulator's force (truth) and where the
     controller inferred a link contact from the joints' efforts (LINK_CONTACT)."""
     tact = data.tactile
     link = tact["link_force"][:, f]
     if np.isfinite(link).any() and (link > 0).any():
         ax.plot(*thin(tact.t, link), "--", color="#000000", lw=0.7,
-                label="force on its links (truth)" if first else None)
+                label=_once("force on its links (truth)", labelled))
     found = [e[0] for e in data.controller["events"]
              if e[1] == controller_event_t.LINK_CONTACT and e[2] == name]
     if found:
         ax.plot(found, np.full(len(found), 0.95), "v", color="#000000", ms=3,
                 transform=ax.get_xaxis_transform(),
-                label="link contact inferred" if first else None)
+                label=_once("link contact inferred", labelled))
+
+
+def _once(label, labelled):
+    """`label` the first time it is asked for, then None (one legend entry per kind)."""
+    if label in labelled:
+        return None
+    labelled.add(label)
+    return label
 
 
 def plot_states(data, path):
