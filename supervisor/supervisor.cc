@@ -180,10 +180,16 @@ void Supervisor::TickGraspChart() {
 }
 
 // After the last task or a failure: the simulator is stopped a moment later.
+// The STOP rides with the joint commands planned from its task: in real time a process of that
+// path restarting (or a lost message) can lose it, and the simulator would run on to its time
+// limit. While reports keep coming, the simulator has not stopped: the STOP goes again every
+// stop_after_s of sensed time.
 void Supervisor::TickEnded() {
-  if (!stop_sent_ && board_.now - state_since_ >= params_.stop_after_s) {
+  const double since = stop_sent_ ? stop_sent_at_ : state_since_;
+  if (board_.now - since >= params_.stop_after_s) {
     board_.out.sim = SimRequest::kStop;
     stop_sent_ = true;
+    stop_sent_at_ = board_.now;
   }
 }
 

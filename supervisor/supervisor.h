@@ -113,6 +113,7 @@ class Supervisor {
   int recoveries_counted_ = 0;
   bool process_lost_ = false;
   bool stop_sent_ = false;
+  double stop_sent_at_ = 0.0;
   bool release_sent_ = false;
   std::string last_action_;
   std::vector<std::string> transitions_;
