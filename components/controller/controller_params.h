@@ -119,6 +119,11 @@ struct ControllerParams {
   // fingers) at up to tip_contact_slide_speed until it is back within the angle (0: off).
   double tip_contact_max_angle_rad = 0.0;
   double tip_contact_slide_speed = 0.01;  // m/s
+  // Whether grip fingers too turn their tips toward the object (ik.approach_gain) and slide
+  // back toward their bases; else only an exploring finger does, while it looks for its next
+  // contact (a grip finger that changes its posture or its contact unsettles the grasp: measured,
+  // the initial grasp of long cylinders and capsules and under 3 ticks of sensing delay).
+  bool tip_front_grip_fingers = false;
   int contact_debounce_ticks = 5;        // a new contact must persist this long...
   int contact_loss_ticks = 40;           // ...a loss this long (rolling contacts flicker)
   double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
@@ -171,6 +176,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(link_contact_friction), AtLeast(0));
     a->Visit(DMPL_NVP(tip_contact_max_angle_rad), InRange(0.0, 3.141592653589793));
     a->Visit(DMPL_NVP(tip_contact_slide_speed), AtLeast(0));
+    a->Visit(DMPL_NVP(tip_front_grip_fingers));
     a->Visit(DMPL_NVP(contact_debounce_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(contact_loss_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(motion_done_rad));

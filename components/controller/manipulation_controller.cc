@@ -353,9 +353,13 @@ SensedInput ManipulationController::UndoTactileCalibration(const SensedInput& ra
 // the side beside its distal link.
 Eigen::Vector3d ManipulationController::TipApproach(int f, const Eigen::Vector3d& contact,
                                                     const Eigen::Vector3d& tip) const {
+  const FingerState& s = fingers_[f];
+  const bool exploring = s.task.primitive == Primitive::kHybrid;
   const Eigen::Vector3d into = contact - tip;
   const double distance = into.norm();
-  if (!fingers_[f].contact || !(distance > 1e-3)) return Eigen::Vector3d::Zero();
+  if (!s.contact || !(exploring || params_.tip_front_grip_fingers) || !(distance > 1e-3)) {
+    return Eigen::Vector3d::Zero();
+  }
   return into / distance;
 }
 
@@ -629,7 +633,9 @@ double ManipulationController::StepComposite(int f, const SensedTip& sensed,
     s.target = tip + params_.guarded_approach_lead_m * direction;
     return desired;
   }
-  if (s.contact) s.anchor += FrontSlide(f, sensed.position, tip);
+  if (s.contact && params_.tip_front_grip_fingers) {
+    s.anchor += FrontSlide(f, sensed.position, tip);
+  }
   s.anchor = tip + ClampNorm(s.anchor - tip, params_.max_anchor_offset_m);
   s.target = s.anchor + displacement +
              direction * ForceTerm(&s, params_.force, desired, sensed.force);
