@@ -4,8 +4,8 @@
 // gait's settings. Nothing here commands anything: the Gait asks, then acts.
 //
 // The explorer's next point lies in the direction of its home turned about the sensed centre
-// (ExplorePoint): on the surface the fingers have felt there (surface_model.h), or, where they
-// have felt too little of it, as far from the centre as the home was.
+// (ExplorePoint): as far from the centre as the home was, or on the surface the fingers have
+// felt there (surface_model.h) where that is known to lie elsewhere.
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -33,8 +33,9 @@ class GaitGeometry {
   double StepLimit(const Eigen::Vector3d& axis, const ControllerView& view,
                    double smallest) const;
   // Where finger `f`'s tip centre goes: toward its home turned by `turn` about the sensed
-  // centre, `tip_radius_m` off the modelled surface in that direction where `surface` knows it
-  // (else at the home's distance from the centre).
+  // centre, at the home's distance from the centre, unless `surface` knows the surface in that
+  // direction to lie elsewhere (by more than 3 mm and twice its uncertainty): then
+  // `tip_radius_m` off the felt surface.
   Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn, const ControllerView& view,
                                const SurfaceModel& surface, double tip_radius_m) const;
   // The explorer `f`'s `point` (tip centre), moved along the felt surface toward the finger's

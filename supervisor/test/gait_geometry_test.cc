@@ -45,6 +45,16 @@ TEST(GaitGeometryTest, TheExplorersPointLiesOnTheFeltSurfaceWhereItIsKnown) {
   const Eigen::Vector3d on_face = g.ExplorePoint(0, none, ring.view, surface, 0.012);
   EXPECT_NEAR(on_face.y(), 0.032, 1e-9);
   EXPECT_NEAR(on_face.z(), 0.0, 1e-9);
+  // A face felt where the home's sphere has it (2.5 cm: 3.7 cm less the tip), within 3 mm:
+  // the home's point stands.
+  SurfaceModel agreeing;
+  for (double u = -0.008; u <= 0.008; u += 0.004) {
+    agreeing.Add(Eigen::Isometry3d::Identity(), Eigen::Vector3d(u, 0.0235, 0.0),
+                 Eigen::Vector3d::UnitY(), 0.0);
+    agreeing.Add(Eigen::Isometry3d::Identity(), Eigen::Vector3d(0.0, 0.0235, u),
+                 Eigen::Vector3d::UnitY(), 0.0);
+  }
+  EXPECT_TRUE(g.ExplorePoint(0, none, ring.view, agreeing, 0.012).isApprox(ring.home[0]));
   // Where nothing was felt (finger 2, along -y), or before any tip radius is known: the home.
   EXPECT_TRUE(g.ExplorePoint(2, none, ring.view, surface, 0.012).isApprox(ring.home[2]));
   EXPECT_TRUE(g.ExplorePoint(0, none, ring.view, surface, 0.0).isApprox(ring.home[0]));
