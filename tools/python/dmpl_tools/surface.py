@@ -113,11 +113,11 @@ def main(argv=None):
         config = experiment.load_yaml(log.parent / "config.yaml")
         model = learned(log)
     except (SurfaceError, OSError, ValueError, experiment.ExperimentError) as e:
-        print(f"surface: {e}", file=sys.stderr)
+        print(f"dmpl surface: {e}", file=sys.stderr)
         return 2
     out = Path(args.out) if args.out else log.parent / "surface.png"
     print(plot(model, config.get("object", {}), out, config.get("experiment", {}).get("name", "")))
-    print(f"surface: {out}")
+    print(f"dmpl surface: {out}")
     return 0
 
 
