@@ -109,6 +109,9 @@ def main(argv=None):
     ap.add_argument("--out", help="the figure (default: RUN/surface.png)")
     args = ap.parse_args(argv)
     log = Path(args.log)
+    if not log.is_file():
+        print(f"dmpl surface: no such log '{log}'", file=sys.stderr)
+        return 2
     try:
         config = experiment.load_yaml(log.parent / "config.yaml")
         model = learned(log)
