@@ -179,7 +179,13 @@ class FaultsTest(unittest.TestCase):
         stop.set()
         forger.join()
         self.assertEqual(result["status"], "success", result.get("problems"))
-        ignore = {"wall_time_s", "realtime_factor", "warnings"}
+        # Under the flood a loop message can be lost in a full socket buffer (2 cores, the
+        # forger saturating one): the simulator then waits run.tick_timeout_s, counts a lockstep
+        # fault and has the command sent again, and the run goes on as it would have (measured:
+        # 1 of 10 runs of this suite, `lockstep_faults` 1, every other key equal). That recovery
+        # is what is asserted of it; the rest must not move.
+        self.assertLessEqual(result["lockstep_faults"], 2, result.get("last_fault"))
+        ignore = {"wall_time_s", "realtime_factor", "warnings", "lockstep_faults", "last_fault"}
         # Equal exactly, the statistics read from the per-tick controller status included: a
         # status the recorder missed under the flood is asked for again (record_confirm.h).
         differ = {k: (clean.get(k), result.get(k)) for k in set(clean) | set(result)
