@@ -29,11 +29,6 @@ def nft(*args):
     subprocess.run(["nft", *args], check=True, capture_output=True, text=True)
 
 
-# Summary statistics over the controller's per-tick statuses (metrics.py), not over the truth.
-STATUS_STATISTICS = {"grip_force_rms_error_n", "exploration_force_mean_n",
-                     "exploration_force_rms_error_n"}
-
-
 class LossTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -81,16 +76,10 @@ class LossTest(unittest.TestCase):
         self.assertEqual(sorted(a), sorted(b))
         for field in set(a) - {"run_id"}:  # each run has an identity of its own
             np.testing.assert_array_equal(a[field], b[field], err_msg=field)
-        # And so is the summary. The statistics over the controller's per-tick statuses, which
-        # only the recorder reads, can miss one (it asks for what it lost, record_confirm.h, but
-        # 1 of 10 runs of this suite differed in grip_force_rms_error_n's 8th digit, the truth
-        # bit for bit the same): those agree to 1e-6, every other key exactly.
-        differ = {k: (clean.get(k), lossy.get(k)) for k in set(clean) | set(lossy)
-                  if clean.get(k) != lossy.get(k) and k not in WALL_CLOCK_KEYS | STATUS_STATISTICS}
-        self.assertEqual(differ, {}, "summary keys that differ with loss")
-        for k in STATUS_STATISTICS & set(clean):
-            self.assertAlmostEqual(lossy[k], clean[k], delta=1e-6 * max(abs(clean[k]), 1e-9),
-                                   msg=k)
+        # And so is the summary (mp.summary_differences: the statistics over the controller's
+        # per-tick statuses, which only the recorder reads, to 1e-6).
+        self.assertEqual(mp.summary_differences(clean, lossy, WALL_CLOCK_KEYS), {},
+                         "summary keys that differ with loss")
 
     def test_real_time_with_loss_runs_on(self):
         # Real time does not wait for lost messages: the next command supersedes a lost one, and

@@ -98,9 +98,7 @@ class RespawnTest(unittest.TestCase):
                        capture_output=True)
         clean = json.loads((out / "summary.json").read_text())
         wall_clock = {"wall_time_s", "realtime_factor", "restarts", "warnings"}
-        differ = {k: (clean.get(k), killed.get(k)) for k in set(clean) | set(killed)
-                  if k not in wall_clock and clean.get(k) != killed.get(k)}
-        self.assertEqual(differ, {})
+        self.assertEqual(mp.summary_differences(clean, killed, wall_clock), {})
 
     def test_real_time_supervisor_takes_up_its_charts(self):
         self.kill_mid_gait("dmpl_supervisor", "run.lockstep=false")

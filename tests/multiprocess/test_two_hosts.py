@@ -78,9 +78,7 @@ class TwoHostsTest(unittest.TestCase):
                 p.communicate(timeout=30)
         two = json.loads((out / "summary.json").read_text())
         self.assertEqual(two["status"], "success", (two.get("problems"), output[-2000:]))
-        differ = {k: (one.get(k), two.get(k)) for k in set(one) | set(two)
-                  if k not in NOT_RESULTS and one.get(k) != two.get(k)}
-        self.assertEqual(differ, {})
+        self.assertEqual(mp.summary_differences(one, two, NOT_RESULTS), {})
         # The loop crossed the link: host B received at least the sensed data of every tick
         # from host A, and sent back at least a command for each.
         stats = json.loads(subprocess.run(
