@@ -397,11 +397,9 @@ void ManipulationController::AdvanceClock(double time_s) {
 std::vector<Eigen::Vector3d> ManipulationController::TipPositions(const std::vector<double>& q) {
   const int nf = kin_.num_fingers();
   std::vector<Eigen::Vector3d> tips(nf);
-  for (int f = 0; f < nf; ++f) tips[f] = kin_.TipPosition(f, q);
   tip_axes_.resize(nf);
-  Eigen::Matrix3Xd omega;
   for (int f = 0; f < nf; ++f) {
-    kin_.finger(f).TipAxis(kin_.FingerJoints(f, q), &tip_axes_[f], &omega);
+    kin_.finger(f).TipFrame(kin_.FingerJoints(f, q), &tips[f], &tip_axes_[f]);
   }
   for (int f = 0; f < nf; ++f) {
     if (!fingers_[f].has_target) {

@@ -45,6 +45,16 @@ void FingerKinematics::TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* ti
   *jac = jac_kdl_.data.topRows<3>();
 }
 
+void FingerKinematics::TipFrame(const Eigen::VectorXd& q, Eigen::Vector3d* tip,
+                                 Eigen::Vector3d* axis) const {
+  q_kdl_.data = q;
+  KDL::Frame frame;
+  DMPL_DEMAND(fk_->JntToCart(q_kdl_, frame) >= 0);
+  *tip = Eigen::Vector3d(frame.p.x(), frame.p.y(), frame.p.z());
+  const KDL::Vector z = frame.M.UnitZ();
+  *axis = Eigen::Vector3d(z.x(), z.y(), z.z());
+}
+
 void FingerKinematics::TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis,
                                 Eigen::Matrix3Xd* omega) const {
   q_kdl_.data = q;

@@ -25,6 +25,8 @@ class FingerKinematics {
 
   // Fingertip centre in the palm frame.
   Eigen::Vector3d TipPosition(const Eigen::VectorXd& q) const;
+  // Tip position and the fingertip's axis (TipAxis), from one forward kinematics.
+  void TipFrame(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Vector3d* axis) const;
   // Tip position and its 3 x n position Jacobian.
   void TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Matrix3Xd* jac) const;
   // The fingertip's axis (the unit z of the tip frame: the distal link's direction, from its
