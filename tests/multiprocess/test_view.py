@@ -182,6 +182,10 @@ class ViewTest(unittest.TestCase):
         whole, *_ = view.read_frames(self.out / "run.lcmlog", 30.0)
         self.assertGreater(len(frames), 10)
         self.assertLess(len(frames), len(whole))
+        # Every frame carries the simulator's force on the fingers' links (the link-touch
+        # marker's), read from the log, not left unknown.
+        for frame in whole:
+            self.assertTrue(np.isfinite(frame["link_force"]).all(), frame["t"])
 
     def test_bad_input_is_one_clear_error(self):
         for args, message in ((["/no/such.lcmlog"], "no such log"),

@@ -42,11 +42,10 @@ from .paths import ROOT
 
 ROLE_COLOURS = {0: 0x9e9e9e, 1: 0x1f77b4, 2: 0xff9800}  # free, grip, explore
 ARROW_M_PER_N = 0.02
-LINK_TOUCH_N = 0.05  # truth force on a finger's links shown as a touch (metrics.link_contact_n)
 FIELDS = {
     channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
                             "joint_position", "tactile_force", "tactile_in_contact",
-                            "tactile_position", "tactile_normal"],
+                            "tactile_position", "tactile_normal", "tactile_link_force"],
     channels.SENSORS: ["utime", "seq", "object_position", "object_orientation"],
     channels.SUPERVISOR_STATUS: None, channels.TASK: None,
     channels.CONTROLLER_REPORT: ["utime", "seq", "target_position"],
@@ -139,6 +138,9 @@ class Scene:
         # Each finger's distal link (the tip's parent): where a link touch is shown.
         parents = {j.child: j.parent for j in self.hand.joints}
         self.distal_links = {f: parents.get(f + "_tip") for f in self.fingers}
+        # The truth force on a finger's links that counts as a touch: the metrics' threshold.
+        self.link_touch_n = config.get("metrics", {}).get(
+            "link_contact_n", experiment.METRICS_DEFAULTS["link_contact_n"])
         sim = config.get("sim", {})
         self.palm = np.eye(4)
         self.palm[:3, :3] = rpy_matrix(*sim.get("palm_rpy", [0.0, -np.pi / 2, 0.0]))
@@ -258,7 +260,7 @@ class Scene:
             target = frame["targets"][k] if frame.get("targets") is not None else None
             root["targets"][f].set_transform(_at(target) if target is not None else HIDDEN)
             link_force = frame.get("link_force")
-            touching = link_force is not None and link_force[k] > LINK_TOUCH_N
+            touching = link_force is not None and link_force[k] > self.link_touch_n
             # At the joint before the distal link: which link it is the log does not say.
             knuckle = poses.get(self.distal_links.get(f), None)
             root["link_touch"][f].set_transform(knuckle if touching and knuckle is not None
