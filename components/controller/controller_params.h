@@ -70,6 +70,7 @@ struct ControllerParams {
   double translation_gain = 0.2;         // P on the translation part
   double translation_integral_gain = 1.0;  // I on the translation part, 1/s
   double max_anchor_offset_m = 0.004;    // how far a grip finger's anchor may lead its tip
+  double carry_offset_m = 0.0;           // ... against gravity, to carry the weight (if more)
   double translation_force_gain = 0.0;   // N/m: net grip force per metre of position error
   double max_translation_force_n = 0.4;
   bool rolling_feedforward = false;      // anchors turn by the rolling ratio, not rigidly
@@ -85,9 +86,9 @@ struct ControllerParams {
   GripAdaptationParams grip_adaptation;  // the grip raised for the explorer's share and on slip
   NormalsAimParams normals_aim;          // grip forces along the contact normals
   LoadParams load;                       // the load the grip learns to carry (load_estimator.h)
-  // Gravity's direction in the palm frame: how the hand is mounted (palm up), which the robot
-  // knows; the object's weight is not known.
-  std::array<double, 3> gravity_direction = {-1.0, 0.0, 0.0};
+  // Gravity's direction comes from the palm's IMU (SensedInput::gravity), low-passed with this
+  // time constant; the object's weight is not known.
+  double gravity_time_constant_s = 0.02;
   ForceGains force;                      // grip fingers (composite)
   ForceGains explore_force{0.002, 0.15, 0.015};  // exploration (hybrid): a light touch must
                                                  // follow the object's small motions closely
@@ -149,6 +150,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(translation_gain));
     a->Visit(DMPL_NVP(translation_integral_gain));
     a->Visit(DMPL_NVP(max_anchor_offset_m));
+    a->Visit(DMPL_NVP(carry_offset_m), InRange(0, 0.05));
     a->Visit(DMPL_NVP(translation_force_gain));
     a->Visit(DMPL_NVP(max_translation_force_n));
     a->Visit(DMPL_NVP(rolling_feedforward));
@@ -163,7 +165,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(grip_adaptation));
     a->Visit(DMPL_NVP(normals_aim));
     a->Visit(DMPL_NVP(load));
-    a->Visit(DMPL_NVP(gravity_direction));
+    a->Visit(DMPL_NVP(gravity_time_constant_s), AtLeast(0));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));
     a->Visit(DMPL_NVP(hybrid_tangential_gain));

@@ -18,6 +18,7 @@ SensedInput ToSensedInput(const hand_sensors_t& m, const HandKinematics& kin,
   }
   in.object_valid = m.object.valid;
   in.object = ToPose(m.object.position, m.object.orientation);
+  in.gravity = ToVector3(m.gravity);
   return in;
 }
 

@@ -27,6 +27,7 @@ struct SensedInput {
   std::vector<SensedTip> tips;     // per finger (kinematics order)
   bool object_valid = false;
   Eigen::Isometry3d object = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // m/s^2, palm frame (the palm's IMU)
 };
 
 struct FingerTask {

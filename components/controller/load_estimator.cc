@@ -7,14 +7,13 @@
 
 namespace dmpl {
 
-LoadEstimator::LoadEstimator(const LoadParams& params, const Eigen::Vector3d& gravity)
-    : params_(params) {
+LoadEstimator::LoadEstimator(const LoadParams& params) : params_(params) {}
+
+Eigen::Vector3d LoadEstimator::Update(double dt_s, const Eigen::Vector3d& position,
+                                      const Eigen::Vector3d& gravity, bool holding) {
+  if (!params_.enabled) return Eigen::Vector3d::Zero();
   DMPL_DEMAND(gravity.norm() > 0);
   up_ = -gravity.normalized();
-}
-
-Eigen::Vector3d LoadEstimator::Update(double dt_s, const Eigen::Vector3d& position, bool holding) {
-  if (!params_.enabled) return Eigen::Vector3d::Zero();
   if (!holding) {
     reference_.reset();  // the object may be anywhere when the grip holds it again
     return load();

@@ -2,7 +2,7 @@
 // The load the grip carries, learned from how the object sinks (issue 14). The paper's force
 // planner makes the grip forces add up to zero; an object's weight then rides on friction alone
 // and a heavy or slick object slides out when a finger leaves to explore. This estimator watches
-// a sensed position of the object along gravity (the hand's mounting says where that is): while
+// a sensed position of the object along gravity (the palm's IMU says where that is): while
 // it sinks faster than its reference follows it (a slow follower, so a steady offset teaches
 // nothing), the load grows; it never reads the object's mass. The controller adds the load to
 // what the grip forces add up to and squeezes for friction to carry it
@@ -47,14 +47,15 @@ struct LoadParams {
 
 class LoadEstimator {
  public:
-  // `gravity`: its direction in the palm frame (the hand's mounting).
-  LoadEstimator(const LoadParams& params, const Eigen::Vector3d& gravity);
+  explicit LoadEstimator(const LoadParams& params);
 
   // One tick of `dt_s`. `position`: the object's estimated position (palm frame, m).
+  // `gravity`: its direction now (palm frame, the palm's IMU; the palm may turn).
   // `holding`: whether the grip holds the object (at least two grip contacts); the load is
   // learned only then and kept otherwise. Returns the net force the grip forces should add up
   // to (N, palm frame, against gravity).
-  Eigen::Vector3d Update(double dt_s, const Eigen::Vector3d& position, bool holding);
+  Eigen::Vector3d Update(double dt_s, const Eigen::Vector3d& position,
+                         const Eigen::Vector3d& gravity, bool holding);
 
   double load_n() const { return load_; }
   Eigen::Vector3d load() const { return load_ * up_; }

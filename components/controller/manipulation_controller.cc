@@ -32,10 +32,6 @@ void ControllerParams::Validate(const std::string& source) const {
   if (!(normals_aim.max_force_n >= grip_force_n)) {
     fail("normals_aim.max_force_n", "must be >= grip_force_n");
   }
-  if (!(Eigen::Vector3d(gravity_direction[0], gravity_direction[1], gravity_direction[2]).norm() >
-        0)) {
-    fail("gravity_direction", "must not be zero");
-  }
 }
 
 ManipulationController::ManipulationController(const HandKinematics& kinematics,
@@ -45,10 +41,7 @@ ManipulationController::ManipulationController(const HandKinematics& kinematics,
       dt_(tick_s),
       fingers_(kinematics.num_fingers()),
       grip_(params.grip_adaptation, params.grip_force_n),
-      load_(params.load, Eigen::Vector3d(params.gravity_direction[0], params.gravity_direction[1],
-                                         params.gravity_direction[2])),
-      gravity_(params.gravity_direction[0], params.gravity_direction[1],
-               params.gravity_direction[2]) {
+      load_(params.load) {
   DMPL_DEMAND(tick_s > 0);
   out_.fingers.resize(kinematics.num_fingers());
   max_linear_ = params_.max_linear_speed;
@@ -90,6 +83,12 @@ bool ManipulationController::Validate(const SensedInput& in, std::string* why) c
       return false;
     }
   }
+  if (!in.gravity.allFinite() || !(in.gravity.norm() > InputBounds::kMinGravity) ||
+      in.gravity.norm() > InputBounds::kMaxGravity) {
+    *why = "gravity reading of " + std::to_string(in.gravity.norm()) +
+           " m/s^2 (the palm's IMU: expected about 9.8)";
+    return false;
+  }
   if (in.object_valid && !in.object.matrix().allFinite()) {
     *why = "object pose with NaN";
     return false;
@@ -100,6 +99,19 @@ bool ManipulationController::Validate(const SensedInput& in, std::string* why) c
     return false;
   }
   return true;
+}
+
+// Gravity's direction in the palm frame, from the palm's IMU: low-passed (its noise), and
+// followed as the palm turns.
+void ManipulationController::UpdateGravity(const SensedInput& in) {
+  const Eigen::Vector3d down = in.gravity.normalized();
+  if (!has_gravity_) {
+    gravity_ = down;
+    has_gravity_ = true;
+    return;
+  }
+  const double a = dt_ / (params_.gravity_time_constant_s + dt_);
+  gravity_ = (gravity_ + a * (down - gravity_)).normalized();
 }
 
 void ManipulationController::UpdateObjectEstimate(const SensedInput& in) {
@@ -250,8 +262,23 @@ Eigen::Vector3d ManipulationController::LearnLoad(const SensedInput& in,
   if (grip_contacts > 0) seat /= grip_contacts;
   const bool same_grip = grip_set == last_grip_set_;
   last_grip_set_ = grip_set;
-  const Eigen::Vector3d carry = load_.Update(dt_, seat, grip_contacts >= 2 && same_grip);
+  const Eigen::Vector3d carry = load_.Update(dt_, seat, gravity_, grip_contacts >= 2 && same_grip);
   return carry;
+}
+
+// A grip finger's anchor leads its tip by at most max_anchor_offset_m, but against gravity by
+// up to carry_offset_m: the weight rides on the grip fingers' tangential forces, and a finger's
+// servo gives them only as far as its target leads its tip (a 150 g object palm down sank
+// 1.2 cm out of a grip held 4 mm behind it, and dropped: docs/benchmarks.md).
+Eigen::Vector3d ManipulationController::ClampAnchorOffset(const Eigen::Vector3d& offset) const {
+  if (params_.carry_offset_m <= params_.max_anchor_offset_m) {
+    return ClampNorm(offset, params_.max_anchor_offset_m);
+  }
+  const Eigen::Vector3d up = -gravity_;
+  const double along = offset.dot(up);
+  const Eigen::Vector3d across =
+      ClampNorm(Eigen::Vector3d(offset - along * up), params_.max_anchor_offset_m);
+  return across + std::clamp(along, -params_.max_anchor_offset_m, params_.carry_offset_m) * up;
 }
 
 double ManipulationController::Ramp(const FingerState& s, double role_force) const {
@@ -284,6 +311,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
   UpdateContacts(in);
   DetectLinkContacts(in, tips);
   const SensedInput located = LocateContacts(in, tips);
+  UpdateGravity(in);
   UpdateObjectEstimate(in);
   ApplyTask(task, tips);
   out_.task_id = task_id_;
@@ -634,7 +662,7 @@ double ManipulationController::StepComposite(int f, const SensedTip& sensed,
   if (s.contact && params_.tip_front_grip_fingers) {
     s.anchor += FrontSlide(f, sensed.position, tip);
   }
-  s.anchor = tip + ClampNorm(s.anchor - tip, params_.max_anchor_offset_m);
+  s.anchor = tip + ClampAnchorOffset(s.anchor - tip);
   s.target = s.anchor + displacement +
              direction * ForceTerm(&s, params_.force, desired, sensed.force);
   return desired;

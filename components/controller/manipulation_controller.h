@@ -90,6 +90,7 @@ class ManipulationController {
   std::vector<Eigen::Vector3d> TipPositions(const std::vector<double>& q);
   SensedInput LocateContacts(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips);
   void ApplyTask(const TaskInput& task, const std::vector<Eigen::Vector3d>& tips);
+  void UpdateGravity(const SensedInput& in);
   void UpdateObjectEstimate(const SensedInput& in);
   void UpdateContacts(const SensedInput& in);
   // A finger that touches with a link (not its tip): joint torque its tip force does not
@@ -107,6 +108,7 @@ class ManipulationController {
   void EmitGraspEvents(double time_s, int grip_contacts);
   void EmitMotionEvents(bool moving);
 
+  Eigen::Vector3d ClampAnchorOffset(const Eigen::Vector3d& offset) const;
   double ForceTerm(FingerState* s, const ForceGains& gains, double desired, double measured);
   // The force a finger should get now: its role's force, reached gradually after a role change
   // so that the others' plan changes smoothly (a grip finger that lets go is a step load).
@@ -125,7 +127,8 @@ class ManipulationController {
   std::vector<Eigen::Vector3d> tip_axes_;  // each fingertip's axis this tick (palm frame)
   GripAdapter grip_;
   LoadEstimator load_;
-  Eigen::Vector3d gravity_;  // its direction in the palm frame (controller.gravity_direction)
+  Eigen::Vector3d gravity_ = Eigen::Vector3d::Zero();  // its direction in the palm frame (IMU)
+  bool has_gravity_ = false;
   int last_grip_set_ = 0;  // bit f: finger f grips (the load's seat restarts when it changes)
   ControllerOutput out_;
   int32_t task_id_ = -1;

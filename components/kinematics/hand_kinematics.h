@@ -53,6 +53,9 @@ struct InputBounds {
   static constexpr double kJointMarginRad = 0.2;    // past a limit: noise, overshoot, calibration
   static constexpr double kMaxForceN = 100.0;       // a fingertip sensor's range (grips are ~1 N)
   static constexpr double kWorkspaceRadiusM = 0.5;  // palm frame; the hand spans about 0.2 m
+  // A palm IMU's gravity reading (m/s^2) outside these is not one (zero: a sender left it out).
+  static constexpr double kMinGravity = 1.0;
+  static constexpr double kMaxGravity = 30.0;
 };
 
 class HandKinematics {

@@ -198,6 +198,7 @@ bool AddSensors(LogColumns::Channel* ch, const hand_sensors_t& m) {
   t.PutArray("tactile_link_force", link_force.data(), {nf});
   t.PutArray("tactile_position", position.data(), {nf, 3});
   t.PutArray("tactile_normal", normal.data(), {nf, 3});
+  t.PutArray("gravity", m.gravity, {3});
   t.EndRow();
   return true;
 }

@@ -39,6 +39,7 @@ struct HandReading {
   JointsReading joints;
   ObjectPoseReading object;
   std::vector<TipReading> tips;
+  std::array<double, 3> gravity = {0, 0, 0};  // m/s^2, palm frame (an IMU on the palm)
 };
 
 }  // namespace dmpl

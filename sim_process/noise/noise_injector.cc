@@ -11,7 +11,7 @@ namespace dmpl {
 namespace {
 
 // Stream ids: one per channel, so adding noise to one channel never shifts another's draws.
-enum Stream : uint64_t { kJoints = 1, kObject = 2, kTactile = 3 };
+enum Stream : uint64_t { kJoints = 1, kObject = 2, kTactile = 3, kGravity = 4 };
 
 template <typename Values>
 bool AllFinite(const Values& v) {
@@ -157,17 +157,34 @@ std::optional<std::vector<TipReading>> NoiseInjector::Sense(
   return out;
 }
 
+std::optional<std::array<double, 3>> NoiseInjector::SenseGravity(
+    int64_t seq, const std::array<double, 3>& truth) {
+  if (!AllFinite(truth)) {
+    Reject("gravity with NaN/Inf");
+    return std::nullopt;
+  }
+  if (params_.gravity_direction_sigma <= 0) return truth;
+  Rng rng(seed_, seq, kGravity);
+  const Eigen::Vector3d w = params_.gravity_direction_sigma *
+                            Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal());
+  const Eigen::Vector3d g =
+      Eigen::AngleAxisd(w.norm(), w.normalized()) * Eigen::Vector3d(truth[0], truth[1], truth[2]);
+  return std::array<double, 3>{g[0], g[1], g[2]};
+}
+
 std::optional<HandReading> NoiseInjector::Sense(const HandReading& truth) {
   auto joints = Sense(truth.seq, truth.joints);
   auto object = Sense(truth.seq, truth.object);
   auto tips = Sense(truth.seq, truth.tips);
-  if (!joints || !object || !tips) return std::nullopt;
+  auto gravity = SenseGravity(truth.seq, truth.gravity);
+  if (!joints || !object || !tips || !gravity) return std::nullopt;
   HandReading out;
   out.seq = truth.seq;
   out.utime = truth.utime;
   out.joints = std::move(*joints);
   out.object = *object;
   out.tips = std::move(*tips);
+  out.gravity = *gravity;
   return out;
 }
 

@@ -21,6 +21,8 @@ class NoiseInjector {
   std::optional<JointsReading> Sense(int64_t seq, const JointsReading& truth);
   std::optional<ObjectPoseReading> Sense(int64_t seq, const ObjectPoseReading& truth);
   std::optional<std::vector<TipReading>> Sense(int64_t seq, const std::vector<TipReading>& truth);
+  // The palm IMU's gravity (m/s^2, palm frame): its direction turned by a small random rotation.
+  std::optional<std::array<double, 3>> SenseGravity(int64_t seq, const std::array<double, 3>& truth);
   // A whole tick: each part as above (the same draws), or nullopt when any part is malformed.
   std::optional<HandReading> Sense(const HandReading& truth);
 

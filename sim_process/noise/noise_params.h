@@ -19,6 +19,9 @@ struct NoiseParams {
   double force_scale = 1.0;
   double dropout_probability = 0.0;          // per message: the reading is lost this tick
   int delay_ticks = 0;                       // sensed(k) carries truth(k - delay)
+  // The palm IMU's gravity: its direction turned by a small random rotation of this many rad per
+  // axis, each tick (a MEMS accelerometer at rest: ~0.005 rad); never delayed or dropped.
+  double gravity_direction_sigma = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -33,6 +36,7 @@ struct NoiseParams {
     a->Visit(DMPL_NVP(force_scale), Above(0));
     a->Visit(DMPL_NVP(dropout_probability), InRange(0, 1));
     a->Visit(DMPL_NVP(delay_ticks), InRange(0, 1000));
+    a->Visit(DMPL_NVP(gravity_direction_sigma), InRange(0, 0.5));
   }
 
   // Throws ConfigError on values that make no sense (negative sigma, probability > 1, ...).

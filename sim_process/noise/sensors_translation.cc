@@ -47,6 +47,7 @@ std::optional<HandReading> ToReading(const hand_sensors_t& m, std::string* why) 
     r.tips.push_back({f.finger, f.in_contact != 0, ToStdArray(f.position), ToStdArray(f.normal),
                       f.force_n, f.num_points});
   }
+  r.gravity = ToStdArray(m.gravity);
   return r;
 }
 
@@ -84,6 +85,7 @@ hand_sensors_t ToMessage(const HandReading& r) {
     f.num_points = static_cast<int16_t>(tip.num_points);
     t.fingers.push_back(f);
   }
+  Copy(r.gravity, m.gravity);
   return m;
 }
 

@@ -33,10 +33,7 @@ Eigen::Isometry3d ToEigen(const btTransform& t) {
 
 Eigen::Isometry3d FromRpy(const std::array<double, 3>& xyz, const std::array<double, 3>& rpy) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(rpy[0], Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
+  t.linear() = RotationFromRpy(rpy);
   t.translation() = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
   return t;
 }
@@ -183,7 +180,11 @@ struct HandSim::World {
 
 HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object,
                  const std::string& source)
-    : model_(model), sim_(sim), object_params_(object) {
+    : model_(model),
+      sim_(sim),
+      object_params_(object),
+      palm_pose_(FromRpy(sim.palm_position, sim.palm_rpy)),
+      palm_motion_(sim.palm_motion, palm_pose_.linear(), source) {
   sim_.Validate(source);
   object_params_.Validate(source);
   for (const auto& [finger, q] : sim_.initial_joints) {
@@ -195,7 +196,6 @@ HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParam
                         std::to_string(model_.fingers()[f].joints.size()) + " joint angles");
     }
   }
-  palm_pose_ = FromRpy(sim_.palm_position, sim_.palm_rpy);
   Build();
 }
 
@@ -492,7 +492,20 @@ void HandSim::ApplyServoTorques() {
   }
 }
 
+Eigen::Vector3d HandSim::gravity_in_palm() const {
+  return palm_pose_.linear().transpose() * ToEigen(world_->world.getGravity());
+}
+
+// The hand stays where it stands in the simulator's world; gravity turns the other way.
+void HandSim::TurnGravity() {
+  if (!palm_motion_.moves()) return;
+  const auto& g = sim_.physics.gravity;
+  const Eigen::Vector3d in_palm = palm_motion_.GravityInPalm(time_, Eigen::Vector3d(g[0], g[1], g[2]));
+  world_->world.setGravity(ToBt(Eigen::Vector3d(palm_pose_.linear() * in_palm)));
+}
+
 void HandSim::Step() {
+  TurnGravity();
   ApplyServoTorques();
   const double dt = sim_.physics.time_step;
   world_->world.stepSimulation(dt, 0, dt);

@@ -69,6 +69,11 @@ class HandSim {
 
   const HandModel& model() const { return model_; }
   const Eigen::Isometry3d& palm_pose() const { return palm_pose_; }
+  // Gravity in the palm frame now (m/s^2): what an IMU on the palm reads. It turns as the palm
+  // does (sim.palm_motion).
+  Eigen::Vector3d gravity_in_palm() const;
+  // The palm's orientation in the world now (sim.palm_rpy, turned by sim.palm_motion).
+  Eigen::Matrix3d palm_orientation() const { return palm_motion_.Orientation(time_); }
   // Fingertip (tip link origin) positions in the palm frame, from the simulator's own state.
   Eigen::Vector3d TipPosition(int finger) const;
   // Teleports the joints (velocities zero) and sets the targets to match. For tests and setup.
@@ -84,13 +89,15 @@ class HandSim {
   void AddObject();
   void SetInitialState();
   void ApplyServoTorques();
+  void TurnGravity();  // as the palm turns (sim.palm_motion)
   void ReadTactile();
   void AddLinkForce(const btPersistentManifold& manifold, const btCollisionObject* link, double dt);
 
   const HandModel& model_;
   SimParams sim_;
   ObjectParams object_params_;
-  Eigen::Isometry3d palm_pose_;
+  Eigen::Isometry3d palm_pose_;  // where the hand stands in the simulator's world
+  PalmMotion palm_motion_;
   std::unique_ptr<World> world_;
   std::vector<double> targets_;
   std::vector<double> effort_;  // servo torques applied in the last step

@@ -129,6 +129,7 @@ class SimNode : public Node, private SimLoop {
         c.normal[i] = tips[f].normal[i];
       }
     }
+    ToArray(sim_.gravity_in_palm(), sensors_msg_.gravity);
     PublishLoop(channels::kSensorsTrue, sensors_msg_);
     if (view_gate_.Due(utime)) {
       lcm(channels::kViewTruth).publish(channels::kViewTruth, &sensors_msg_);

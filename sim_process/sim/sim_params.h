@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "components/runtime/params.h"
+#include "sim_process/sim/palm_motion.h"
 
 namespace dmpl {
 
@@ -75,6 +76,7 @@ struct SimParams {
   TactileParams tactile;
   std::array<double, 3> palm_position = {0.0, 0.0, 0.0};  // world, m
   std::array<double, 3> palm_rpy = {0.0, -1.5707963267948966, 0.0};  // palm up: palm x -> world z
+  PalmMotionParams palm_motion;  // how the palm turns while the task runs (palm_motion.h)
   std::map<std::string, std::vector<double>> initial_joints;  // finger -> joint angles (rad)
   int steps_per_tick = 1;
   // The actuation delay: the step from tick k applies the joint command that answered tick
@@ -94,6 +96,7 @@ struct SimParams {
     a->Visit(DMPL_NVP(tactile));
     a->Visit(DMPL_NVP(palm_position));
     a->Visit(DMPL_NVP(palm_rpy));
+    a->Visit(DMPL_NVP(palm_motion));
     a->Visit(DMPL_NVP(initial_joints));
     a->Visit(DMPL_NVP(steps_per_tick), AtLeast(1));
     a->Visit(DMPL_NVP(command_delay_ticks), InRange(0, 100));

@@ -57,6 +57,7 @@ class ControllerNodeTest : public ::testing::Test {
       m.tactile.fingers.push_back(c);
     }
     m.tactile.num_fingers = static_cast<int8_t>(m.tactile.fingers.size());
+    m.gravity[0] = -9.81;  // palm up
     return m;
   }
 

@@ -73,6 +73,7 @@ struct Fixture {
     in.tips.resize(4);
     in.object_valid = true;
     in.object.translation() = centre;
+    in.gravity = {-9.81, 0.0, 0.0};  // palm up
     return in;
   }
   TaskInput Grip(int explore_finger = -1) {
@@ -163,6 +164,61 @@ SensedInput SettleOnPlant(Fixture* fx, ManipulationController* ctl, SpherePlant*
     plant->Apply(targets, &fx->q, &in);
   }
   return in;
+}
+
+// A held object that sinks along gravity, the tips stuck where they touch it: with
+// carry_offset_m each grip finger's target leads its tip against gravity, in its contact's
+// tangent plane (where friction carries; along the normal the force loop takes a lead back),
+// by up to that much (the servo's push that carries the weight), whatever way the palm's IMU
+// says gravity points.
+TEST(ManipulationControllerTest, GripFingersLeadTheirTipsAgainstGravityToCarryTheWeight) {
+  const std::vector<Eigen::Vector3d> downs = {{-1, 0, 0}, {0, 0, -1}, {1, 0, 0},
+                                              Eigen::Vector3d(1, 1, -1).normalized()};
+  for (const Eigen::Vector3d& down : downs) {
+    double lead[2][4];  // [carry off, on][finger]: the target's tangential lead against gravity
+    double room[4];     // how much of "up" lies in the finger's tangent plane (0..1)
+    for (int on = 0; on < 2; ++on) {
+      Fixture fx;
+      ControllerParams params;
+      params.carry_offset_m = on ? 0.012 : 0.0;
+      ManipulationController ctl(fx.kin, params, 1e-3);
+      SpherePlant plant(fx.kin, fx.centre, 0.025, 300.0);
+      SensedInput in = fx.Input(0);
+      in.gravity = 9.81 * down;
+      std::vector<Eigen::Vector3d> targets;
+      for (int f = 0; f < 4; ++f) targets.push_back(fx.kin.TipPosition(f, fx.q));
+      plant.Apply(targets, &fx.q, &in);
+      for (int k = 0; k < 3000; ++k) {
+        in.seq = k;
+        in.time_s = k * 1e-3;
+        // Held where the task wants it for 1 s, then seen 1 cm lower (its weight pulled it
+        // and the fingers gave).
+        in.object.translation() = fx.centre + (k < 1000 ? 0.0 : 0.01) * down;
+        const ControllerOutput& out = ctl.Step(in, fx.Grip());
+        targets.clear();
+        for (const auto& f : out.fingers) targets.push_back(f.target);
+        plant.Apply(targets, &fx.q, &in);
+      }
+      for (int f = 0; f < 4; ++f) {
+        const FingerOutput& out = ctl.output().fingers[f];
+        ASSERT_TRUE(out.in_contact);
+        const Eigen::Vector3d n = (out.tip - out.contact).normalized();
+        const Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity() - n * n.transpose();
+        lead[on][f] = -(tangent * (out.target - out.tip)).dot(down);
+        room[f] = (tangent * down).squaredNorm();
+      }
+    }
+    for (int f = 0; f < 4; ++f) {
+      SCOPED_TRACE("gravity " + std::to_string(down.x()) + " " + std::to_string(down.y()) + " " +
+                   std::to_string(down.z()) + ", finger " + std::to_string(f) + ", room " +
+                   std::to_string(room[f]));
+      // 12 mm of anchor against 4 mm along up: 8 mm more, of which the tangent plane holds
+      // room * 8 mm. The force loop takes the normal part of the lead back along its own
+      // direction (toward the grip's centre, a few degrees off the normal): up to 2 mm more.
+      EXPECT_GT(lead[1][f] - lead[0][f], 0.8 * 0.008 * room[f] - 0.0005);
+      EXPECT_LT(lead[1][f] - lead[0][f], 0.008 * room[f] + 0.002);
+    }
+  }
 }
 
 TEST(ManipulationControllerTest, ALostReadingIsNotTakenForAContactPointWhileDebounced) {
@@ -269,6 +325,14 @@ TEST(ManipulationControllerTest, InputBeyondThePhysicalRangeIsRejectedLikeNan) {
   in.object_valid = true;
   in.object.translation() = Eigen::Vector3d(3.0, 0.0, 0.0);  // m: far outside the hand
   EXPECT_TRUE(rejected(in));
+  // No gravity reading (a sender that left the palm's IMU out), or one no IMU gives.
+  const std::vector<Eigen::Vector3d> bad_gravity = {
+      Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, -300.0), Eigen::Vector3d(std::nan(""), 0, 0)};
+  for (const Eigen::Vector3d& g : bad_gravity) {
+    in = fx.Input(4);
+    in.gravity = g;
+    EXPECT_TRUE(rejected(in));
+  }
   // Within the limits' margin (noise, overshoot) is accepted.
   in = fx.Input(5);
   in.q[j] = fx.kin.finger(1).upper()[1] + InputBounds::kJointMarginRad / 2;

@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "sim_process/noise/noise_injector.h"
 #include "sim_process/noise/sensors_translation.h"
@@ -148,6 +151,28 @@ TEST(NoiseInjectorTest, AWholeTickIsItsPartsSensedAlone) {
   EXPECT_EQ(whole.rejected(), 1);
 }
 
+TEST(NoiseInjectorTest, TheIMUsGravityKeepsItsSizeAndTurnsByTheConfiguredAngle) {
+  const std::array<double, 3> truth = {-9.81, 0.0, 0.0};
+  NoiseInjector exact(NoiseParams{}, 3);
+  EXPECT_EQ(*exact.SenseGravity(1, truth), truth);
+  NoiseParams p;
+  p.gravity_direction_sigma = 0.01;
+  NoiseInjector noise(p, 3);
+  // A rotation vector with sigma s per axis turns a direction by the norm of its two components
+  // across it: a Rayleigh angle of mean s * sqrt(pi / 2).
+  double sum = 0.0;
+  for (int k = 0; k < kSamples; ++k) {
+    const auto g = noise.SenseGravity(k, truth);
+    ASSERT_TRUE(g);
+    const Eigen::Vector3d v((*g)[0], (*g)[1], (*g)[2]);
+    EXPECT_NEAR(v.norm(), 9.81, 1e-9);
+    sum += std::acos(std::clamp(-v.x() / v.norm(), -1.0, 1.0));
+  }
+  EXPECT_NEAR(sum / kSamples, 0.01 * std::sqrt(M_PI / 2), 0.03 * 0.01 * std::sqrt(M_PI / 2));
+  EXPECT_FALSE(noise.SenseGravity(1, {std::nan(""), 0.0, 0.0}));
+  EXPECT_EQ(noise.rejected(), 1);
+}
+
 TEST(SensorsTranslationTest, AMessageAndItsReadingCarryTheSameValues) {
   hand_sensors_t m{};
   m.seq = m.joints.seq = m.object.seq = m.tactile.seq = 7;
@@ -170,6 +195,8 @@ TEST(SensorsTranslationTest, AMessageAndItsReadingCarryTheSameValues) {
   tip.num_points = 2;
   m.tactile.fingers = {tip};
   m.tactile.num_fingers = 1;
+  m.gravity[0] = -9.7;
+  m.gravity[2] = 0.3;
   std::string why;
   const auto reading = ToReading(m, &why);
   ASSERT_TRUE(reading) << why;

@@ -25,6 +25,39 @@ TEST(HandSimTest, FreeFallMatchesHalfGTSquared) {
   EXPECT_NEAR(fallen, 0.5 * 9.81 * t * t, 0.01 * 0.5 * 9.81 * t * t);
 }
 
+// The palm turns 90 deg about its y axis over 1 s (sim.palm_motion): the IMU's gravity turns
+// with it, and an object released then falls along the gravity the palm reads, not the world's.
+TEST(HandSimTest, ATurningPalmTurnsGravityAndAFallingObjectFollowsIt) {
+  const HandModel model = LoadHand();
+  SimParams sim;  // palm up: gravity is palm -x
+  sim.palm_motion.axis = {0.0, 1.0, 0.0};
+  sim.palm_motion.rate_rad_s = M_PI / 2;
+  sim.palm_motion.angle_rad = M_PI / 2;
+  ObjectParams object;
+  object.position = {0.3, 0.5, 0.5};  // far from the hand
+  HandSim hand(model, sim, object);
+  EXPECT_TRUE(hand.gravity_in_palm().isApprox(Eigen::Vector3d(-9.81, 0, 0), 1e-9));
+  for (int i = 0; i < 500; ++i) hand.Step();  // half way: 45 deg (less the step it lags)
+  const double h = 9.81 * std::sqrt(0.5);
+  EXPECT_TRUE(hand.gravity_in_palm().isApprox(Eigen::Vector3d(-h, 0, -h), 2e-3))
+      << hand.gravity_in_palm().transpose();
+  for (int i = 0; i < 1000; ++i) hand.Step();  // past the end of the turn: it holds at 90 deg
+  // Turned +90 deg about palm y, the palm's -x (the old down) is now horizontal and its -z down.
+  EXPECT_TRUE(hand.gravity_in_palm().isApprox(Eigen::Vector3d(0, 0, -9.81), 1e-9))
+      << hand.gravity_in_palm().transpose();
+  EXPECT_TRUE(hand.palm_orientation().isApprox(
+      hand.palm_pose().linear() * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix(),
+      1e-12));
+  hand.ReleaseObject();
+  const Eigen::Vector3d p0 = hand.object().pose.translation();
+  const int steps = 300;
+  for (int i = 0; i < steps; ++i) hand.Step();
+  const double t = steps * sim.physics.time_step;
+  const Eigen::Vector3d fallen = hand.object().pose.translation() - p0;
+  EXPECT_NEAR(-fallen.z(), 0.5 * 9.81 * t * t, 0.01 * 0.5 * 9.81 * t * t);
+  EXPECT_NEAR(fallen.x(), 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace dmpl
 
