@@ -186,6 +186,24 @@ class ViewTest(unittest.TestCase):
         # marker's), read from the log, not left unknown.
         for frame in whole:
             self.assertTrue(np.isfinite(frame["link_force"]).all(), frame["t"])
+            # ... and the palm's gravity (palm up here: along palm -x), which turns the hand.
+            np.testing.assert_allclose(frame["gravity"], [-9.81, 0.0, 0.0], atol=1e-9)
+
+    def test_the_palm_is_drawn_turned_as_its_gravity_turned(self):
+        # Palm up (gravity palm -x) turned 90 deg about palm y (gravity palm -z): the least
+        # rotation taking the gravity now back to the first is that turn, as the simulator's
+        # sim.palm_motion makes it (test: hand_sim_test, ATurningPalmTurnsGravity...).
+        turn = view.rotation_between([0.0, 0.0, -9.81], [-9.81, 0.0, 0.0])
+        np.testing.assert_allclose(turn, [[0, 0, 1], [0, 1, 0], [-1, 0, 0]], atol=1e-12)
+        rng = np.random.default_rng(1)
+        for _ in range(100):
+            a, b = rng.normal(size=3), rng.normal(size=3)
+            r = view.rotation_between(a, b)
+            np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-12)
+            np.testing.assert_allclose(r @ (a / np.linalg.norm(a)), b / np.linalg.norm(b),
+                                       atol=1e-12)
+        np.testing.assert_allclose(view.rotation_between([0, 0, 1], [0, 0, -1]) @ [0, 0, 1],
+                                   [0, 0, -1], atol=1e-12)
 
     def test_bad_input_is_one_clear_error(self):
         for args, message in ((["/no/such.lcmlog"], "no such log"),

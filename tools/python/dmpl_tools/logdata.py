@@ -137,6 +137,9 @@ class LogData:
             "link_force": _get(truth, "tactile_link_force", (nf,)) if "tactile_link_force" in truth
             else np.full((len(_t(truth)), nf), np.nan),
             "in_contact": _get(truth, "tactile_in_contact", (nf,), bool)})
+        # Gravity in the palm frame (m/s^2); NaN in logs from before the simulator published it.
+        self.gravity = (_get(truth, "gravity", (3,)) if "gravity" in truth
+                        else np.full((len(_t(truth)), 3), np.nan))
         self._read_sim(columns)
         self._read_supervisor(columns)
         self._read_controller(columns)

@@ -33,6 +33,8 @@ Definitions (the run's config section `metrics` sets the thresholds):
   rate_goal_tolerance_rad of task.angle (the end of the run if it never does), divided by that
   time; toward goal orientations, the angles from where the object was when each reached goal
   became current to that goal, summed, over the time those goals took.
+- palm_turned_rad: the angle between gravity in the palm frame (the simulator's truth) at the
+  run's start and at its end: how far the palm turned (sim.palm_motion).
 - goals_reached (runs with task.goals or task.random_goals): goals reached one after another;
   time_per_goal_median_s / _p90_s: the time each took, from when it became current.
 """
@@ -48,7 +50,8 @@ ROLE_EXPLORE = 2
 # The fields the metrics read, per channel (None: every field); the recorder extracts these.
 COLUMNS = {
     channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
-                            "tactile_force", "tactile_in_contact", "tactile_link_force"],
+                            "tactile_force", "tactile_in_contact", "tactile_link_force",
+                            "gravity"],
     channels.CONTROLLER_STATUS: ["utime", "seq", "role", "desired_force"],
     channels.CONTROLLER_REPORT: ["utime", "seq", "role", "desired_force"],
     channels.SUPERVISOR_STATUS: None, channels.TASK: None, channels.SIM_STATUS: None,
@@ -108,6 +111,7 @@ def compute(data, config):
     summary["max_position_drift_m"] = float(drift.max(initial=0.0))
     duration = t[-1] - t[i_begin]
     summary["drift_rate_m_per_s"] = float(drift[-1] / duration) if duration > 0 else 0.0
+    summary["palm_turned_rad"] = _palm_turn(data.gravity)
 
     q = obj["orientation"]
     rotation = cumulative_rotation(q[i_begin:], axis)
@@ -142,6 +146,16 @@ def compute(data, config):
         if last["last_fault"]:
             summary["last_fault"] = str(last["last_fault"])
     return summary
+
+
+def _palm_turn(gravity):
+    """The angle gravity turned in the palm frame from the first reading to the last (0 in logs
+    from before the simulator published it)."""
+    if len(gravity) < 2 or not np.all(np.isfinite(gravity[[0, -1]])):
+        return 0.0
+    a, b = gravity[0], gravity[-1]
+    cos = np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b))
+    return float(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
 def _first_rotation_time(sup):

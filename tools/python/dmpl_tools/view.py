@@ -11,7 +11,10 @@ force (2 cm per N, into the translucent object), each fingertip coloured by its 
 the sensed (noisy) object pose as a translucent ghost beside the true one, the target
 orientation (task) or the current goal orientation (goals) as a frame, the fingertip targets as
 small cubes (live: the points the supervisor sends them to), a red ball at a finger's distal
-joint while the object presses on its links rather than its tip (the simulator's truth), and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
+joint while the object presses on its links rather than its tip (the simulator's truth), an arrow
+along gravity from the palm's origin (the palm's IMU, truth), the whole hand turned as the palm
+turns (sim.palm_motion: the least rotation that takes the palm's first gravity to its gravity
+now), and a text: sim time, grasp and regrasp state, rotation so far (or goals reached).
 
 The live view only listens, to the truth and sensed channels the simulator and the noise injector
 send for viewers at run.view_rate_hz (30 Hz) and the supervisor's status and task: it keeps the
@@ -42,10 +45,12 @@ from .paths import ROOT
 
 ROLE_COLOURS = {0: 0x9e9e9e, 1: 0x1f77b4, 2: 0xff9800}  # free, grip, explore
 ARROW_M_PER_N = 0.02
+GRAVITY_ARROW_M = 0.05
 FIELDS = {
     channels.SENSORS_TRUE: ["utime", "seq", "object_position", "object_orientation",
                             "joint_position", "tactile_force", "tactile_in_contact",
-                            "tactile_position", "tactile_normal", "tactile_link_force"],
+                            "tactile_position", "tactile_normal", "tactile_link_force",
+                            "gravity"],
     channels.SENSORS: ["utime", "seq", "object_position", "object_orientation"],
     channels.SUPERVISOR_STATUS: None, channels.TASK: None,
     channels.CONTROLLER_REPORT: ["utime", "seq", "target_position"],
@@ -102,6 +107,25 @@ def pose_matrix(position, q):
     return t
 
 
+def rotation_between(a, b):
+    """The least rotation (3 x 3) that turns direction `a` into direction `b`."""
+    a = np.asarray(a, dtype=float) / np.linalg.norm(a)
+    b = np.asarray(b, dtype=float) / np.linalg.norm(b)
+    axis = np.cross(a, b)
+    s, c = np.linalg.norm(axis), float(np.dot(a, b))
+    if s < 1e-12:
+        if c > 0:
+            return np.eye(3)
+        # Opposite: half a turn about any axis across them.
+        other = np.cross(a, [1.0, 0.0, 0.0])
+        other = other if np.linalg.norm(other) > 1e-6 else np.cross(a, [0.0, 1.0, 0.0])
+        k = other / np.linalg.norm(other)
+        return 2.0 * np.outer(k, k) - np.eye(3)
+    k = axis / s
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + s * kx + (1 - c) * kx @ kx
+
+
 def arrow_matrix(start, direction, length):
     """A unit cylinder (Meshcat: along y, centred) stretched from `start` along `direction`."""
     d = np.asarray(direction, dtype=float)
@@ -145,6 +169,7 @@ class Scene:
         self.palm = np.eye(4)
         self.palm[:3, :3] = rpy_matrix(*sim.get("palm_rpy", [0.0, -np.pi / 2, 0.0]))
         self.palm[:3, 3] = sim.get("palm_position", [0.0, 0.0, 0.0])
+        self.first_gravity = None  # the palm's gravity in the first frame drawn
         # Bullet's cylinders and capsules lie along z, Meshcat's along y.
         self.object_fix = np.eye(4)
         if config.get("object", {}).get("shape", "sphere") in ("cylinder", "capsule"):
@@ -191,6 +216,7 @@ class Scene:
             # Shown while the object presses on the finger's links (not its tip): truth.
             root["link_touch"][f].set_object(g.Sphere(0.008), g.MeshLambertMaterial(
                 color=0xff1744, opacity=0.7, transparent=True))
+        root["gravity"].set_object(g.Cylinder(1.0, 0.002), g.MeshLambertMaterial(color=0x000000))
 
     def _geometry(self, s):
         g = self.g
@@ -228,6 +254,15 @@ class Scene:
         """Poses every object for one frame; `node` is the live visualizer or an animation
         frame of it (both take set_transform and set_property)."""
         root = node["dmpl"]
+        gravity = frame.get("gravity")
+        if gravity is not None and np.all(np.isfinite(gravity)) and np.linalg.norm(gravity) > 0:
+            if self.first_gravity is None:
+                self.first_gravity = np.array(gravity, dtype=float)
+            # The palm in the world now: its gravity turned back to where it first was.
+            palm = self.palm.copy()
+            palm[:3, :3] = self.palm[:3, :3] @ rotation_between(gravity, self.first_gravity)
+            root.set_transform(palm)
+            root["gravity"].set_transform(arrow_matrix(np.zeros(3), gravity, GRAVITY_ARROW_M))
         poses = self.hand.link_poses(frame["joints"])
         for link, shapes in self.hand.shapes.items():
             if link in poses:
@@ -316,6 +351,7 @@ def log_frames(data, config, fps):
              "object_position": o["position"][i], "object_orientation": o["orientation"][i],
              "force": data.tactile["force"][i], "in_contact": data.tactile["in_contact"][i],
              "link_force": data.tactile["link_force"][i],
+             "gravity": data.gravity[i],
              "contact_position": truth["tactile_position"][i],
              "contact_normal": truth["tactile_normal"][i],
              "roles": [1] * len(data.fingers), "rotation": float(rotation[i] - rotation[0])}
@@ -543,6 +579,7 @@ def live_frame(msgs, fingers, state):
          "force": [by_name[n].force_n if n in by_name else 0.0 for n in fingers],
          "in_contact": [bool(by_name[n].in_contact) if n in by_name else False for n in fingers],
          "link_force": [by_name[n].link_force_n if n in by_name else 0.0 for n in fingers],
+         "gravity": np.array(s.gravity),
          "contact_position": [np.array(by_name[n].position) if n in by_name else np.zeros(3)
                               for n in fingers],
          "contact_normal": [np.array(by_name[n].normal) if n in by_name else np.zeros(3)
