@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include <btBulletDynamicsCommon.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
@@ -11,6 +13,8 @@
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include "components/runtime/check.h"
+#include "components/hand/hand_params.h"
+#include "sim_process/sim/convex_object.h"
 
 namespace dmpl {
 namespace {
@@ -104,6 +108,50 @@ Eigen::Vector3d ObjectInertia(const ObjectParams& o) {
   throw ConfigError("config error: key 'object.shape': unknown shape '" + o.shape + "'");
 }
 
+ObjectBody MakeObjectBody(const ObjectParams& o, const std::string& source) {
+  ObjectBody body;
+  if (o.shape != "prism" && o.shape != "mesh") {
+    body.inertia = ObjectInertia(o);
+    return body;
+  }
+  const std::string key = o.shape == "mesh" ? "mesh" : "sides";
+  auto fail = [&](const std::string& what) {
+    throw ConfigError("config error in " + source + ": key 'object." + key + "': " + what);
+  };
+  Mesh mesh;
+  ConvexHull hull;
+  try {
+    if (o.shape == "prism") {
+      mesh.points = PrismPoints(o.sides, o.radius, o.length);
+    } else {
+      mesh = ReadMesh(ResolveProjectPath(o.mesh));
+      for (Eigen::Vector3d& p : mesh.points) p *= o.scale;
+    }
+    hull = HullOf(mesh.points);
+  } catch (const std::runtime_error& e) {
+    fail(e.what());
+  }
+  Eigen::AlignedBox3d box;
+  for (const auto& v : hull.vertices) box.extend(v);
+  const double size = box.diagonal().norm();
+  if (const double depth = DeepestTriangle(mesh, hull); depth > 1e-3 * size) {
+    fail("not convex: a face lies " + std::to_string(depth * 1000) +
+         " mm inside the mesh's convex hull (dmpl simulates a mesh as its convex hull)");
+  }
+  if (size > 0.5) fail("a mesh " + std::to_string(size) + " m across (object.scale: its unit?)");
+  const MassProperties mass = MassOf(hull, o.mass);
+  // The principal axes, right-handed, ordered by Eigen (ascending moments).
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(mass.inertia);
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  body.principal.linear() = axes;
+  body.principal.translation() = mass.centroid;
+  body.inertia = eig.eigenvalues();
+  for (const auto& v : hull.vertices) body.hull.push_back(body.principal.inverse() * v);
+  return body;
+}
+
+
 void SimParams::Validate(const std::string& source) const {
   CheckBounds(*this, source, "sim");
   if (servo.kp.empty() || servo.kp.size() != servo.kd.size()) {
@@ -118,14 +166,19 @@ void ObjectParams::Validate(const std::string& source) const {
   };
   CheckBounds(*this, source, "object");
   static const std::vector<std::string> kShapes = {"sphere", "cylinder", "box", "capsule",
-                                                   "ellipsoid"};
+                                                   "ellipsoid", "prism", "mesh"};
   if (std::find(kShapes.begin(), kShapes.end(), shape) == kShapes.end()) {
-    fail("shape", "unknown shape '" + shape + "' (sphere, cylinder, box, capsule, ellipsoid)");
+    fail("shape", "unknown shape '" + shape +
+                      "' (sphere, cylinder, box, capsule, ellipsoid, prism, mesh)");
   }
-  if ((shape == "sphere" || shape == "cylinder" || shape == "capsule") && !(radius > 0)) {
+  if ((shape == "sphere" || shape == "cylinder" || shape == "capsule" || shape == "prism") &&
+      !(radius > 0)) {
     fail("radius", "must be > 0");
   }
-  if ((shape == "cylinder" || shape == "capsule") && !(length > 0)) fail("length", "must be > 0");
+  if ((shape == "cylinder" || shape == "capsule" || shape == "prism") && !(length > 0)) {
+    fail("length", "must be > 0");
+  }
+  if (shape == "mesh" && mesh.empty()) fail("mesh", "a mesh object needs its file (.obj or .stl)");
   if (shape == "box") for (double s : size) if (!(s > 0)) fail("size", "edges must be > 0");
   if (shape == "ellipsoid") for (double r : radii) if (!(r > 0)) fail("radii", "must be > 0");
 }
@@ -187,6 +240,7 @@ HandSim::HandSim(const HandModel& model, const SimParams& sim, const ObjectParam
       palm_motion_(sim.palm_motion, palm_pose_.linear(), source) {
   sim_.Validate(source);
   object_params_.Validate(source);
+  object_body_ = MakeObjectBody(object_params_, source);
   for (const auto& [finger, q] : sim_.initial_joints) {
     const std::string at = "config error in " + source + ": key 'sim.initial_joints." + finger;
     const int f = model_.FindFinger(finger);
@@ -378,6 +432,11 @@ void HandSim::AddObject() {
     shape = std::make_unique<btBoxShape>(btVector3(o.size[0], o.size[1], o.size[2]) / 2.0);
   } else if (o.shape == "capsule") {
     shape = std::make_unique<btCapsuleShapeZ>(o.radius, o.length);
+  } else if (!object_body_.hull.empty()) {  // prism, mesh: their convex hull
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Eigen::Vector3d& v : object_body_.hull) hull->addPoint(ToBt(v), false);
+    hull->recalcLocalAabb();
+    shape = std::move(hull);
   } else {  // ellipsoid: a unit sphere scaled per axis
     const btVector3 centre(0, 0, 0);
     const btScalar unit = 1.0;
@@ -385,7 +444,7 @@ void HandSim::AddObject() {
     shape->setLocalScaling(btVector3(o.radii[0], o.radii[1], o.radii[2]));
   }
   if (o.shape != "sphere") shape->setMargin(p.collision_margin);
-  w.object_inertia = ToBt(ObjectInertia(o));
+  w.object_inertia = ToBt(object_body_.inertia);
   btRigidBody::btRigidBodyConstructionInfo ci(o.mass, nullptr, shape.get(), w.object_inertia);
   ci.m_friction = o.friction;
   ci.m_rollingFriction = o.rolling_friction;
@@ -393,7 +452,7 @@ void HandSim::AddObject() {
   ci.m_restitution = o.restitution;
   ci.m_linearDamping = 0.0;
   ci.m_angularDamping = 0.0;
-  ci.m_startWorldTransform = ToBt(palm_pose_ * FromRpy(o.position, o.rpy));
+  ci.m_startWorldTransform = ToBt(palm_pose_ * FromRpy(o.position, o.rpy) * object_body_.principal);
   w.object = std::make_unique<btRigidBody>(ci);
   w.object->setActivationState(DISABLE_DEACTIVATION);
   w.shapes.push_back(std::move(shape));
@@ -579,7 +638,7 @@ ObjectState HandSim::object() const {
   const btRigidBody& body = *world_->object;
   const Eigen::Isometry3d world_to_palm = palm_pose_.inverse();
   ObjectState r;
-  r.pose = world_to_palm * ToEigen(body.getWorldTransform());
+  r.pose = world_to_palm * ToEigen(body.getWorldTransform()) * object_body_.principal.inverse();
   r.linear_velocity = world_to_palm.linear() * ToEigen(body.getLinearVelocity());
   r.angular_velocity = world_to_palm.linear() * ToEigen(body.getAngularVelocity());
   return r;

@@ -37,6 +37,15 @@ struct TipState {
   double link_force = 0.0;  // on the finger's other links, N: truth that no sensor reads
 };
 
+// The object as the physics holds it: the principal frame of its inertia (at its centre of mass)
+// in the frame its pose is given in, the inertia's diagonal there, and, for a shape given by
+// points (prism, mesh), its convex hull's vertices in that frame.
+struct ObjectBody {
+  Eigen::Isometry3d principal = Eigen::Isometry3d::Identity();  // object <- principal
+  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> hull;  // empty: a primitive shape
+};
+
 class HandSim {
  public:
   // Validates the parameters (the one place they are): throws ConfigError naming `source` and the
@@ -96,6 +105,7 @@ class HandSim {
   const HandModel& model_;
   SimParams sim_;
   ObjectParams object_params_;
+  ObjectBody object_body_;
   Eigen::Isometry3d palm_pose_;  // where the hand stands in the simulator's world
   PalmMotion palm_motion_;
   std::unique_ptr<World> world_;
@@ -109,5 +119,10 @@ class HandSim {
 
 // The object's mass properties from its shape (diagonal inertia about the centre, object frame).
 Eigen::Vector3d ObjectInertia(const ObjectParams& object);
+
+
+// Throws ConfigError naming `source` and the key: a mesh file that is missing, unreadable,
+// empty, flat or not convex (a vertex inside its hull by more than 0.1 % of its size).
+ObjectBody MakeObjectBody(const ObjectParams& object, const std::string& source);
 
 }  // namespace dmpl

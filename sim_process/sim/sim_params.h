@@ -109,9 +109,14 @@ struct SimParams {
 
 // Section `object`: for the simulator only; no controller ever reads it.
 struct ObjectParams {
-  std::string shape = "sphere";        // sphere, cylinder, box, capsule, ellipsoid
-  double radius = 0.025;               // sphere, cylinder, capsule
-  double length = 0.09;                // cylinder, capsule (along the object's z)
+  std::string shape = "sphere";        // sphere, cylinder, box, capsule, ellipsoid, prism, mesh
+  double radius = 0.025;               // sphere, cylinder, capsule; prism: its corners'
+  double length = 0.09;                // cylinder, capsule, prism (along the object's z)
+  int sides = 6;                       // prism: a regular polygon of this many sides
+  // mesh: an OBJ or STL file (relative paths from $DMPL_ROOT), its convex hull, its vertices
+  // scaled by `scale` (a file in millimetres: 0.001); its pose is the file's frame.
+  std::string mesh;
+  double scale = 1.0;
   std::array<double, 3> size = {0.05, 0.05, 0.05};     // box edge lengths
   std::array<double, 3> radii = {0.03, 0.025, 0.025};  // ellipsoid semi-axes
   double mass = 0.05;                  // kg; inertia follows from the shape
@@ -128,6 +133,9 @@ struct ObjectParams {
     a->Visit(DMPL_NVP(shape));
     a->Visit(DMPL_NVP(radius));
     a->Visit(DMPL_NVP(length));
+    a->Visit(DMPL_NVP(sides), InRange(3, 64));
+    a->Visit(DMPL_NVP(mesh));
+    a->Visit(DMPL_NVP(scale), Above(0));
     a->Visit(DMPL_NVP(size));
     a->Visit(DMPL_NVP(radii));
     a->Visit(DMPL_NVP(mass), Above(0));

@@ -107,6 +107,60 @@ TEST(HandSimTest, StaticGraspHoldsTheReleasedSphere) {
 namespace dmpl {
 namespace {
 
+// Shapes with edges and faces (issue 29) in the sphere's static grasp: a 5 cm cube, a hexagonal
+// prism standing on the palm (its axis along the palm normal x) and the two shipped meshes,
+// released, stay where they are held, every fingertip on them.
+TEST(HandSimTest, ShapesWithEdgesRestInAStaticGrasp) {
+  const HandModel model = LoadHand();
+  struct Case {
+    const char* name;
+    ObjectParams object;
+  };
+  std::vector<Case> cases(4);
+  cases[0].name = "cube 5 cm";
+  cases[0].object.shape = "box";
+  cases[0].object.size = {0.05, 0.05, 0.05};
+  cases[1].name = "hexagonal prism";
+  cases[1].object.shape = "prism";
+  cases[1].object.sides = 6;
+  cases[1].object.radius = 0.027;
+  cases[1].object.length = 0.05;
+  cases[1].object.rpy = {0.0, M_PI / 2, 0.0};
+  cases[2].name = "egg";
+  cases[2].object.shape = "mesh";
+  cases[2].object.mesh = DMPL_SOURCE_DIR "/configs/objects/egg.obj";
+  cases[2].object.rpy = {0.0, M_PI / 2, 0.0};
+  cases[3].name = "pebble";
+  cases[3].object.shape = "mesh";
+  cases[3].object.mesh = DMPL_SOURCE_DIR "/configs/objects/pebble.stl";
+  cases[3].object.rpy = {0.0, 0.0, 0.0};  // lying: standing, its sides are too narrow for this grasp
+  for (Case& c : cases) {
+    c.object.position = {0.09, 0.0, 0.02};
+    HandSim hand(model, testing::StaticGraspSim(), c.object, c.name);
+    std::string why;
+    ASSERT_TRUE(hand.SetJointTargets(testing::SqueezeTargets(), &why)) << why;
+    for (int i = 0; i < 300; ++i) hand.Step();
+    hand.ReleaseObject();
+    for (int i = 0; i < 1000; ++i) hand.Step();
+    const Eigen::Isometry3d p1 = hand.object().pose;
+    for (int i = 0; i < 2000; ++i) hand.Step();
+    const Eigen::Isometry3d p2 = hand.object().pose;
+    int touching = 0;
+    double on_links = 0.0;
+    for (const auto& t : hand.tactile()) {
+      touching += t.in_contact;
+      on_links += t.link_force;
+    }
+    const double drift = (p2.translation() - p1.translation()).norm();
+    const double turn = Eigen::AngleAxisd(p2.linear() * p1.linear().transpose()).angle();
+    std::printf("%s: %d tips, %.2f N on links, drift %.3f mm, turn %.4f rad in 2 s\n", c.name,
+                touching, on_links, drift * 1e3, turn);
+    EXPECT_GE(touching, 3) << c.name;
+    EXPECT_LT(drift, 0.0005) << c.name;
+    EXPECT_LT(turn, 0.01) << c.name;
+  }
+}
+
 TEST(HandSimTest, BoxRestingOnAnUpturnedFingertipWeighsMG) {
   const HandModel model = LoadHand();
   SimParams sim;

@@ -107,6 +107,21 @@ def pose_matrix(position, q):
     return t
 
 
+def prism_mesh(sides, radius, length):
+    """A regular prism as the simulator builds it (along z, a corner on +x): vertices, faces."""
+    angles = 2 * np.pi * np.arange(sides) / sides
+    ring = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=1)
+    vertices = np.vstack([np.c_[ring, np.full(sides, -length / 2)],
+                          np.c_[ring, np.full(sides, length / 2)]])
+    faces = []
+    for k in range(sides):
+        j = (k + 1) % sides
+        faces += [[k, j, sides + j], [k, sides + j, sides + k]]
+        if 0 < k < sides - 1:
+            faces += [[0, k + 1, k], [sides, sides + k, sides + k + 1]]
+    return vertices, np.array(faces)
+
+
 def rotation_between(a, b):
     """The least rotation (3 x 3) that turns direction `a` into direction `b`."""
     a = np.asarray(a, dtype=float) / np.linalg.norm(a)
@@ -172,8 +187,11 @@ class Scene:
         self.first_gravity = None  # the palm's gravity in the first frame drawn
         # Bullet's cylinders and capsules lie along z, Meshcat's along y.
         self.object_fix = np.eye(4)
-        if config.get("object", {}).get("shape", "sphere") in ("cylinder", "capsule"):
+        obj = config.get("object", {})
+        if obj.get("shape", "sphere") in ("cylinder", "capsule"):
             self.object_fix[:3, :3] = rpy_matrix(np.pi / 2, 0, 0)
+        if obj.get("shape") == "mesh":  # the file's units: object.scale
+            self.object_fix[:3, :3] *= float(obj.get("scale", 1.0))
         self._build()
 
     def _build(self):
@@ -248,6 +266,16 @@ class Scene:
             return g.Ellipsoid(list(o.get("radii", [r, r, r])))
         if shape == "capsule":
             return g.Cylinder(float(o.get("length", 0.06)) + 2 * r, r)  # close enough to see
+        if shape == "prism":
+            vertices, faces = prism_mesh(int(o.get("sides", 6)), r, float(o.get("length", 0.09)))
+            return g.TriangularMeshGeometry(vertices, faces)
+        if shape == "mesh":
+            path = Path(o.get("mesh", ""))
+            path = path if path.is_absolute() else ROOT / path
+            if not path.is_file():
+                raise ViewError(f"object.mesh: no such mesh file '{path}'")
+            reader = g.StlMeshGeometry if path.suffix.lower() == ".stl" else g.ObjMeshGeometry
+            return reader.from_file(str(path))
         return g.Sphere(r)
 
     def draw(self, node, frame):
