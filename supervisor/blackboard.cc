@@ -54,13 +54,32 @@ void Blackboard::LearnSurface() {
   // A reading lighter than this, or a point not on the tip sphere, is not taken as a contact.
   constexpr double kMinForceN = 0.05;
   constexpr double kMinRadiusM = 0.002, kMaxRadiusM = 0.03;
-  for (const FingerView& f : view.fingers) {
-    if (!f.in_contact || f.force < kMinForceN) continue;
+  if (edge_detectors.size() != view.fingers.size()) edge_detectors.resize(view.fingers.size());
+  for (size_t k = 0; k < view.fingers.size(); ++k) {
+    const FingerView& f = view.fingers[k];
     const Eigen::Vector3d into = f.contact - f.tip;  // into the object
     const double radius = into.norm();
-    if (!(radius > kMinRadiusM && radius < kMaxRadiusM)) continue;
+    if (!f.in_contact || f.force < kMinForceN || !(radius > kMinRadiusM && radius < kMaxRadiusM)) {
+      edge_detectors[k].Reset();
+      continue;
+    }
     tip_radius_m = tip_radius_m > 0 ? 0.99 * tip_radius_m + 0.01 * radius : radius;
-    surface.Add(view.object, f.contact, -into / radius, now);
+    const Eigen::Vector3d outward = -into / radius;
+    surface.Add(view.object, f.contact, outward, now);
+    const Eigen::Isometry3d to_object = view.object.inverse();
+    if (auto edge = edge_detectors[k].Add(now, to_object * f.contact,
+                                          to_object.linear() * outward)) {
+      if (edge->continues) {  // the one this finger found last, turned further
+        for (auto it = edges.rbegin(); it != edges.rend(); ++it) {
+          if (it->finger == static_cast<int>(k)) {
+            it->edge = *edge;
+            break;
+          }
+        }
+      } else {
+        edges.push_back({static_cast<int>(k), *edge});
+      }
+    }
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "supervisor/edge_detector.h"
 #include "supervisor/supervisor_types.h"
 #include "supervisor/surface_model.h"
 
@@ -28,7 +29,7 @@ struct Blackboard {
   bool MotionDone() const { return motion_done_event || view.motion_done; }
   Eigen::Quaterniond SensedOrientation() const;
   // What this tick's fingertip contacts say of the object's surface (view's contact points,
-  // normals from the tip centres) and of the tips' radius.
+  // normals from the tip centres), of its edges and of the tips' radius.
   void LearnSurface();
 
   std::vector<std::string> fingers;
@@ -44,6 +45,13 @@ struct Blackboard {
   // radius as the contacts show it (0 until one is felt): an explorer's target is its tip centre.
   SurfaceModel surface;
   double tip_radius_m = 0.0;
+  // The edges the fingertips have rolled over (object frame), with the finger that felt each.
+  struct FeltEdge {
+    int finger;
+    Edge edge;
+  };
+  std::vector<EdgeDetector> edge_detectors;  // per finger
+  std::vector<FeltEdge> edges;
   SupervisorOutput out;
   std::string note;
   int32_t next_task_id = 1;

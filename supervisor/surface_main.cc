@@ -2,8 +2,9 @@
 // run, as JSON on stdout. It feeds the controller's statuses of the log (their sensed contact
 // points, tip centres and object estimates) through the supervisor's own Blackboard::LearnSurface,
 // so the picture is the model the gait planned on, not a second implementation of it: the
-// contacts kept (object frame: point, outward normal, time) and the surface along directions
-// spread over the sphere (known, distance, normal, uncertainty). Exit 2 with one message on a
+// contacts kept (object frame: point, outward normal, time), the surface along directions
+// spread over the sphere (known, distance, normal, uncertainty) and the edges the fingertips
+// rolled over (edge_detector.h: finger, time, point, the normals either side). Exit 2 with one message on a
 // log it cannot read.
 #include <cmath>
 #include <cstdio>
@@ -58,6 +59,18 @@ void Print(const dmpl::Blackboard& board, int messages, int directions) {
     std::printf(", \"known\": %s, \"distance_m\": %.6g, \"sigma_m\": %.6g, \"support\": %.4g, ",
                 s.known ? "true" : "false", s.distance_m, s.sigma_m, s.support);
     PrintVector("normal", s.normal);
+    std::printf("}");
+  }
+  std::printf("],\n\"edges\": [");
+  for (size_t i = 0; i < board.edges.size(); ++i) {
+    const dmpl::Edge& e = board.edges[i].edge;
+    std::printf("%s\n  {\"finger\": \"%s\", \"time_s\": %.4f, \"angle_rad\": %.4f, ", i ? "," : "",
+                board.fingers[board.edges[i].finger].c_str(), e.time_s, e.angle_rad);
+    PrintVector("point", e.point);
+    std::printf(", ");
+    PrintVector("normal_before", e.normal_before);
+    std::printf(", ");
+    PrintVector("normal_after", e.normal_after);
     std::printf("}");
   }
   std::printf("]}\n");
