@@ -22,7 +22,7 @@ import numpy as np
 
 import mp
 from dmpl import controller_status_t, hand_sensors_t, sim_control_t, supervisor_status_t
-from dmpl_tools import experiment, metrics
+from dmpl_tools import experiment, faces, metrics
 from dmpl_tools.bus import Buses
 from dmpl_tools.export import export
 from dmpl_tools.logdata import LogData
@@ -117,6 +117,29 @@ class RecordPoliciesTest(unittest.TestCase):
                              r"(\d+) of 400 directions", text)
             self.assertIsNotNone(felt, text)
             self.assertGreaterEqual(int(felt.group(1)), 4)
+
+    def test_the_report_names_the_faces_a_cube_was_touched_on(self):
+        # Fig. 8 on a 5 cm cube (all four fingers turn it 0.2 rad and back): each finger stays on
+        # one face; the face its contact normal names (from the tip's geometry and the
+        # controller's pose estimate) is the face the simulator says it touches.
+        _, out = run_experiment(FIG8, tempfile.mkdtemp(prefix="dmpl_logs_cube_"), seed=1,
+                                echo=False, one_process=True, record="analysis",
+                                sets=["object.shape=box", "object.size=[0.05,0.05,0.05]"])
+        report = make_report(out / "run.lcmlog", Path(tempfile.mkdtemp()) / "report")
+        text = report.read_text()
+        agree = re.search(r"\| face detected = true face \| (\d+) % of the contact time", text)
+        self.assertIsNotNone(agree, text)
+        self.assertGreaterEqual(int(agree.group(1)), 95)
+        self.assertGreater((report.parent / "faces.png").stat().st_size, 10_000)
+        # A prism's side faces: each normal across its side, halfway between two corners.
+        names, normals = faces.face_normals({"shape": "prism", "sides": 6})
+        self.assertEqual(len(names), 8)
+        corners = [np.array([np.cos(a), np.sin(a), 0]) for a in 2 * np.pi * np.arange(6) / 6]
+        for k in range(6):
+            side = corners[(k + 1) % 6] - corners[k]
+            self.assertAlmostEqual(float(normals[k] @ side), 0.0, places=12)
+            self.assertGreater(float(normals[k] @ corners[k]), 0.8)
+        self.assertIsNone(faces.face_normals({"shape": "sphere"}))
 
     def test_online_metrics_equal_the_definitions_on_the_full_log(self):
         summary, out = self.runs["full"]

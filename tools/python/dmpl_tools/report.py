@@ -18,20 +18,24 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from dmpl import controller_event_t
 
-from . import channels, experiment, metrics, surface
-from .logdata import (LogData, LogError, angle_between, cumulative_rotation, quat_conj,
+from . import channels, experiment, faces, metrics, surface
+from .logdata import (Columns, LogData, LogError, angle_between, extract, cumulative_rotation, quat_conj,
                       quat_mul, rotation_vector, task_axis)
 
 # What the plots read: the metrics' columns, the sensed object pose, the planned grip force and
 # the controller's events (slips).
-_CONTROLLER = ["utime", "seq", "role", "desired_force", "grip_force_n", "events/.*"]
+_CONTROLLER = ["utime", "seq", "role", "desired_force", "grip_force_n", "events/.*",
+               *faces.CONTROLLER_FIELDS]
 FIELDS = {**metrics.COLUMNS,
+          channels.SENSORS_TRUE: sorted(set(metrics.COLUMNS[channels.SENSORS_TRUE]) |
+                                        set(faces.TRUTH_FIELDS)),
           channels.SENSORS: ["utime", "seq", "object_position", "object_orientation",
                              "object_valid"],
           channels.CONTROLLER_STATUS: _CONTROLLER, channels.CONTROLLER_REPORT: _CONTROLLER}
@@ -290,6 +294,7 @@ FIGURES = [("fig8a_orientation.png", "Object orientation against its target (Fig
 SURFACE_FIGURE = ("surface.png", "The object's surface as the hand felt it (the supervisor's "
                                   "model, object frame) against its true shape")
 GOALS_FIGURE = ("goals.png", "Angle to the current goal orientation, goals reached marked")
+FACES_FIGURE = ("faces.png", "The face each finger touches, detected by touch against true")
 
 HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
             "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
@@ -315,6 +320,16 @@ def _plot_surface(log_path, config, name, out, figures):
     return note
 
 
+def _read(log_path, obj):
+    """The run's data, and the faces its fingers touched (faces.py; None without faces)."""
+    if not Path(log_path).is_file():
+        raise LogError(f"no such log '{log_path}'")
+    with tempfile.TemporaryDirectory(prefix="dmpl-report-") as tmp:
+        extract(log_path, tmp, FIELDS)
+        data = LogData(Columns(tmp))
+        return data, faces.faces_over_time(data, obj)
+
+
 def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=None):
     """Writes the figures, report.md and a 3-D replay (replay_path, default OUT/replay.html;
     False: none); returns the report's path."""
@@ -330,7 +345,7 @@ def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=N
         config["metrics"].setdefault(k, v)
     if summary is None and (run_dir / "summary.json").exists():
         summary = json.loads((run_dir / "summary.json").read_text())
-    data = LogData.from_log(log_path, FIELDS)
+    data, touched = _read(log_path, config.get("object", {}))
     if summary is None:
         summary = metrics.compute(data, config)
     if data.problems:  # what this pass over the log could not read (beside the run's own)
@@ -347,6 +362,11 @@ def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=N
     plot_forces(data, out / FIGURES[3][0])
     plot_states(data, out / FIGURES[4][0])
     surface_note = _plot_surface(log_path, config, name_of(config, log_path), out, figures)
+    faces_note = None
+    if touched is not None:
+        faces.plot(touched, data.fingers, out / FACES_FIGURE[0], _plt())
+        figures.append(FACES_FIGURE)
+        faces_note = f"{100 * faces.agreement(touched):.0f} % of the contact time"
     name = name_of(config, log_path)
     lines = [f"# dmpl report: {name}", "", f"Log: `{log_path}`", "", "| metric | value |",
              "| --- | --- |"]
@@ -355,6 +375,8 @@ def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=N
             v = summary[key]
             lines.append(f"| {key} | {v:.4g} |" if isinstance(v, float) else f"| {key} | {v} |")
     lines.append(f"| surface felt | {surface_note} |")
+    if faces_note:
+        lines.append(f"| face detected = true face | {faces_note} |")
     for p in summary.get("problems", []):
         lines.append(f"| problem | {p} |")
     for w in summary.get("warnings", []):
