@@ -89,8 +89,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   if (const auto code = dmpl::ParseCommandLine(app, argc, argv)) return *code;
   try {
-    // The per-tick status where the log keeps it, else the 100 Hz report: one of the two (the
-    // same contacts twice would weigh nothing more, but would cost). A first pass counts them.
+    // The per-tick status where the log keeps it at every tick, else the 100 Hz report (an
+    // analysis log keeps the status in bursts only: its gaps would break the edges' traces):
+    // one of the two (the same contacts twice would weigh nothing more, but would cost), by the
+    // rule the Python tools use (logdata.py). A first pass counts them.
     int statuses = 0, reports = 0;
     {
       dmpl::EventLogReader log(log_path);
@@ -100,8 +102,8 @@ int main(int argc, char** argv) {
         reports += event.channel == dmpl::channels::kControllerReport;
       }
     }
-    const std::string channel = statuses >= reports ? dmpl::channels::kControllerStatus
-                                                    : dmpl::channels::kControllerReport;
+    const std::string channel = statuses >= 5 * reports ? dmpl::channels::kControllerStatus
+                                                        : dmpl::channels::kControllerReport;
     dmpl::EventLogReader log(log_path);
     dmpl::LogEvent event;
     std::vector<std::string> fingers;
