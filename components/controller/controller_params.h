@@ -70,7 +70,7 @@ struct ControllerParams {
   double translation_gain = 0.2;         // P on the translation part
   double translation_integral_gain = 1.0;  // I on the translation part, 1/s
   double max_anchor_offset_m = 0.004;    // how far a grip finger's anchor may lead its tip
-  double carry_offset_m = 0.0;           // ... against gravity, to carry the weight (if more)
+  double carry_offset_m = 0.0;           // ... against gravity, as the object sinks (if more)
   double translation_force_gain = 0.0;   // N/m: net grip force per metre of position error
   double max_translation_force_n = 0.4;
   bool rolling_feedforward = false;      // anchors turn by the rolling ratio, not rigidly

@@ -267,18 +267,21 @@ Eigen::Vector3d ManipulationController::LearnLoad(const SensedInput& in,
 }
 
 // A grip finger's anchor leads its tip by at most max_anchor_offset_m, but against gravity by
-// up to carry_offset_m: the weight rides on the grip fingers' tangential forces, and a finger's
-// servo gives them only as far as its target leads its tip (a 150 g object palm down sank
-// 1.2 cm out of a grip held 4 mm behind it, and dropped: docs/benchmarks.md).
-Eigen::Vector3d ManipulationController::ClampAnchorOffset(const Eigen::Vector3d& offset) const {
-  if (params_.carry_offset_m <= params_.max_anchor_offset_m) {
-    return ClampNorm(offset, params_.max_anchor_offset_m);
-  }
+// as much more as the object has sunk below its reference (`sink_m`), up to carry_offset_m: the
+// weight rides on the grip fingers' tangential forces, and a finger's servo gives them only as
+// far as its target leads its tip (a 150 g object palm down sank 1.2 cm out of a grip held 4 mm
+// behind it, and dropped: docs/benchmarks.md). An object that has not sunk gets no more room
+// (with room it did not need, the anchors' wander cost random goals on the nominal sphere).
+Eigen::Vector3d ManipulationController::ClampAnchorOffset(const Eigen::Vector3d& offset,
+                                                          double sink_m) const {
+  const double room = std::min(params_.carry_offset_m,
+                               params_.max_anchor_offset_m + std::max(0.0, sink_m));
+  if (room <= params_.max_anchor_offset_m) return ClampNorm(offset, params_.max_anchor_offset_m);
   const Eigen::Vector3d up = -gravity_;
   const double along = offset.dot(up);
   const Eigen::Vector3d across =
       ClampNorm(Eigen::Vector3d(offset - along * up), params_.max_anchor_offset_m);
-  return across + std::clamp(along, -params_.max_anchor_offset_m, params_.carry_offset_m) * up;
+  return across + std::clamp(along, -params_.max_anchor_offset_m, room) * up;
 }
 
 double ManipulationController::Ramp(const FingerState& s, double role_force) const {
@@ -662,7 +665,11 @@ double ManipulationController::StepComposite(int f, const SensedTip& sensed,
   if (s.contact && params_.tip_front_grip_fingers) {
     s.anchor += FrontSlide(f, sensed.position, tip);
   }
-  s.anchor = tip + ClampAnchorOffset(s.anchor - tip);
+  // How far the object has sunk below where the task holds it (0 without a reference).
+  const double sink = object.moving ? (reference_.translation() - estimate_.translation())
+                                          .dot(-gravity_)
+                                    : 0.0;
+  s.anchor = tip + ClampAnchorOffset(s.anchor - tip, sink);
   s.target = s.anchor + displacement +
              direction * ForceTerm(&s, params_.force, desired, sensed.force);
   return desired;

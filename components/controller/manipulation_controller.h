@@ -108,7 +108,7 @@ class ManipulationController {
   void EmitGraspEvents(double time_s, int grip_contacts);
   void EmitMotionEvents(bool moving);
 
-  Eigen::Vector3d ClampAnchorOffset(const Eigen::Vector3d& offset) const;
+  Eigen::Vector3d ClampAnchorOffset(const Eigen::Vector3d& offset, double sink_m) const;
   double ForceTerm(FingerState* s, const ForceGains& gains, double desired, double measured);
   // The force a finger should get now: its role's force, reached gradually after a role change
   // so that the others' plan changes smoothly (a grip finger that lets go is a step load).
