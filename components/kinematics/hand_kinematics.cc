@@ -57,11 +57,8 @@ void FingerKinematics::TipFrame(const Eigen::VectorXd& q, Eigen::Vector3d* tip,
 
 void FingerKinematics::TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis,
                                 Eigen::Matrix3Xd* omega) const {
-  q_kdl_.data = q;
-  KDL::Frame frame;
-  DMPL_DEMAND(fk_->JntToCart(q_kdl_, frame) >= 0);
-  const KDL::Vector z = frame.M.UnitZ();
-  *axis = Eigen::Vector3d(z.x(), z.y(), z.z());
+  Eigen::Vector3d tip;
+  TipFrame(q, &tip, axis);  // sets q_kdl_ for the Jacobian too
   // KDL's Jacobian: its angular rows are the joints' axes in the base frame.
   DMPL_DEMAND(jac_->JntToJac(q_kdl_, jac_kdl_) >= 0);
   *omega = jac_kdl_.data.bottomRows<3>();

@@ -147,7 +147,8 @@ ObjectBody MakeObjectBody(const ObjectParams& o, const std::string& source) {
   body.principal.linear() = axes;
   body.principal.translation() = mass.centroid;
   body.inertia = eig.eigenvalues();
-  for (const auto& v : hull.vertices) body.hull.push_back(body.principal.inverse() * v);
+  const Eigen::Isometry3d to_principal = body.principal.inverse();
+  for (const auto& v : hull.vertices) body.hull.push_back(to_principal * v);
   return body;
 }
 

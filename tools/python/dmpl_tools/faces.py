@@ -9,7 +9,7 @@ normal and the object's true orientation. Other shapes have no faces to name."""
 import numpy as np
 
 from . import channels
-from .logdata import _t
+from .logdata import _t, quat_conj, quat_mul
 
 TRUTH_FIELDS = ["object_orientation", "tactile_normal", "tactile_in_contact"]
 CONTROLLER_FIELDS = ["object_orientation", "tip_position", "contact_position", "in_contact",
@@ -38,13 +38,11 @@ def face_normals(obj):
 
 
 def _rotate_into(q, v):
-    """v (palm frame, [..., 3]) into the frame of orientation q ([..., 4] w x y z)."""
-    w, x, y, z = np.moveaxis(q, -1, 0)
-    r = np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-                  np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-                  np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)],
-                 -2)
-    return np.einsum("...ji,...fj->...fi", r, v)  # R^T v per finger
+    """v (palm frame, [ticks, fingers, 3]) into the frame of orientation q ([ticks, 4], w x y z):
+    q* v q per finger."""
+    q = q[..., None, :]
+    pure = np.concatenate([np.zeros(v.shape[:-1] + (1,)), v], axis=-1)
+    return quat_mul(quat_conj(q), quat_mul(pure, q))[..., 1:]
 
 
 def faces_over_time(data, obj):
