@@ -1,7 +1,7 @@
 #pragma once
-// The simulator's core: the hand (a btMultiBody built from the URDF) and one object (a
-// btRigidBody) in a Bullet multibody world, with joint servos and fingertip tactile sensing.
-// No LCM here. Everything it reports is in the palm frame.
+// The simulator's core: the hand from the URDF and one object in a physics engine (sim.engine:
+// Bullet, the default, or MuJoCo; physics_engine.h), with joint servos of bounded stiffness and
+// fingertip tactile sensing. No LCM here. Everything it reports is in the palm frame.
 #include <memory>
 #include <string>
 #include <vector>
@@ -9,47 +9,16 @@
 #include <Eigen/Geometry>
 
 #include "components/hand/hand_model.h"
+#include "sim_process/sim/physics_engine.h"
 #include "sim_process/sim/sim_params.h"
 
-class btCollisionObject;
-class btPersistentManifold;
-
 namespace dmpl {
-
-// The simulator's true state, read by its node (the sensed layer's readings, what the noise
-// injector takes in and puts out, are sim_process/noise/hand_reading.h).
-struct JointState {
-  std::vector<double> position, velocity, effort;  // actuated joints, HandModel order
-};
-
-struct ObjectState {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // palm frame
-  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
-  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
-};
-
-struct TipState {
-  bool in_contact = false;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // force-weighted contact point on the object
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();    // object -> fingertip
-  double force = 0.0;                                  // normal force, N
-  int points = 0;
-  double link_force = 0.0;  // on the finger's other links, N: truth that no sensor reads
-};
-
-// The object as the physics holds it: the principal frame of its inertia (at its centre of mass)
-// in the frame its pose is given in, the inertia's diagonal there, and, for a shape given by
-// points (prism, mesh), its convex hull's vertices in that frame.
-struct ObjectBody {
-  Eigen::Isometry3d principal = Eigen::Isometry3d::Identity();  // object <- principal
-  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> hull;  // empty: a primitive shape
-};
 
 class HandSim {
  public:
   // Validates the parameters (the one place they are): throws ConfigError naming `source` and the
-  // key on invalid ones (unknown shape, non-positive mass, an initial pose of an unknown finger).
+  // key on invalid ones (unknown shape or engine, non-positive mass, an initial pose of an unknown
+  // finger, a model the engine cannot compile).
   HandSim(const HandModel& model, const SimParams& sim, const ObjectParams& object,
           const std::string& source = "the simulator's parameters");
   ~HandSim();
@@ -89,26 +58,20 @@ class HandSim {
   void SetJointPositions(const std::vector<double>& q);
 
  private:
-  struct World;
-  void Build();  // the phases below, in order
-  void ConfigureSolver();
-  void AddHand();
-  void AddHandColliders();
-  void AddJointLimits();
-  void AddObject();
+  void Build();  // the engine's world, then the initial state
   void SetInitialState();
   void ApplyServoTorques();
   void TurnGravity();  // as the palm turns (sim.palm_motion)
   void ReadTactile();
-  void AddLinkForce(const btPersistentManifold& manifold, const btCollisionObject* link, double dt);
 
   const HandModel& model_;
+  std::string source_;
   SimParams sim_;
   ObjectParams object_params_;
   ObjectBody object_body_;
   Eigen::Isometry3d palm_pose_;  // where the hand stands in the simulator's world
   PalmMotion palm_motion_;
-  std::unique_ptr<World> world_;
+  std::unique_ptr<PhysicsEngine> engine_;
   std::vector<double> targets_;
   std::vector<double> effort_;  // servo torques applied in the last step
   std::vector<TipState> tactile_;

@@ -12,6 +12,13 @@ Eigen::Matrix3d RotationFromRpy(const std::array<double, 3>& rpy) {
       .toRotationMatrix();
 }
 
+Eigen::Isometry3d PoseFromXyzRpy(const std::array<double, 3>& xyz, const std::array<double, 3>& rpy) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = RotationFromRpy(rpy);
+  t.translation() = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+  return t;
+}
+
 PalmMotion::PalmMotion(const PalmMotionParams& params, const Eigen::Matrix3d& initial,
                        const std::string& source)
     : params_(params), initial_(initial) {

@@ -47,6 +47,8 @@ struct PalmMotionParams {
 
 // The palm's orientation in the world, as a rotation matrix built like sim.palm_rpy's.
 Eigen::Matrix3d RotationFromRpy(const std::array<double, 3>& rpy);
+// A pose from a position and roll-pitch-yaw, as the configs give them.
+Eigen::Isometry3d PoseFromXyzRpy(const std::array<double, 3>& xyz, const std::array<double, 3>& rpy);
 
 class PalmMotion {
  public:

@@ -1,0 +1,201 @@
+// The physics both engines share (sim.engine: bullet, mujoco), asserted on each with the same
+// parameters: free fall along the palm's gravity, a static grasp that holds, the tactile reading
+// of a known contact, the servo's torque limit, determinism, and their configuration errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "components/hand/testing/project_hand.h"
+#include "components/runtime/params.h"
+#include "sim_process/sim/hand_sim.h"
+#include "sim_process/sim/testing/static_grasp.h"
+
+namespace dmpl {
+namespace {
+
+using testing::LoadHand;
+
+class EnginesTest : public ::testing::TestWithParam<const char*> {
+ protected:
+  SimParams Sim(SimParams sim = SimParams{}) const {
+    sim.engine = GetParam();
+    return sim;
+  }
+};
+
+// Palm sideways (fingers up): gravity is palm -z; an object far from the hand falls g t^2 / 2.
+TEST_P(EnginesTest, AReleasedObjectFallsAlongThePalmsGravity) {
+  const HandModel model = LoadHand();
+  SimParams sim = Sim();
+  sim.palm_rpy = {0.0, 0.0, 0.0};
+  ObjectParams object;
+  object.position = {0.3, 0.5, 0.5};
+  HandSim hand(model, sim, object);
+  EXPECT_TRUE(hand.gravity_in_palm().isApprox(Eigen::Vector3d(0, 0, -9.81), 1e-12));
+  hand.ReleaseObject();
+  const Eigen::Vector3d p0 = hand.object().pose.translation();
+  for (int i = 0; i < 300; ++i) hand.Step();
+  const double t = 0.3, drop = 0.5 * 9.81 * t * t;
+  const Eigen::Vector3d fallen = hand.object().pose.translation() - p0;
+  // Bullet and MuJoCo integrate semi-implicitly: the drop over 300 steps is off by ~0.3 %.
+  EXPECT_NEAR(-fallen.z(), drop, 0.01 * drop);
+  EXPECT_NEAR(fallen.x(), 0.0, 1e-9);
+  EXPECT_NEAR(hand.object().linear_velocity.z(), -9.81 * t, 0.01 * 9.81 * t);
+}
+
+// The sphere squeezed in the experiments' grasp, released: it stays (drift under 0.1 mm/s, the
+// bench's hold criterion) on four tips, with a grip of a few times its weight.
+TEST_P(EnginesTest, AStaticGraspHoldsTheReleasedSphere) {
+  const HandModel model = LoadHand();
+  ObjectParams object;
+  object.position = {0.09, 0.0, 0.02};
+  HandSim hand(model, Sim(testing::StaticGraspSim()), object);
+  std::string why;
+  ASSERT_TRUE(hand.SetJointTargets(testing::SqueezeTargets(), &why)) << why;
+  for (int i = 0; i < 300; ++i) hand.Step();
+  hand.ReleaseObject();
+  for (int i = 0; i < 1000; ++i) hand.Step();
+  const Eigen::Vector3d p1 = hand.object().pose.translation();
+  for (int i = 0; i < 3000; ++i) hand.Step();
+  const Eigen::Vector3d p2 = hand.object().pose.translation();
+  double grip = 0.0;
+  for (const TipState& t : hand.tactile()) {
+    EXPECT_TRUE(t.in_contact);
+    grip += t.force;
+    // Each reported point lies on the sphere's surface (penetration a fraction of a mm).
+    EXPECT_NEAR((t.position - p2).norm(), object.radius, 5e-4);
+    EXPECT_GT(t.normal.dot((t.position - p2).normalized()), 0.999);
+  }
+  const double weight = object.mass * 9.81;
+  std::printf("%s: drift %.4f mm in 3 s, grip %.3f N (weight %.3f N)\n", GetParam(),
+              (p2 - p1).norm() * 1e3, grip, weight);
+  EXPECT_LT((p2 - p1).norm(), 3e-4);
+  EXPECT_GT(grip, weight);
+  EXPECT_LT(grip, 10 * weight);
+}
+
+// Fingers up, a thin box resting on the straight middle finger's tip: the tip reads its weight,
+// the normal points down into the tip, the point sits on the tip sphere's top.
+TEST_P(EnginesTest, ABoxOnAnUpturnedFingertipWeighsMG) {
+  const HandModel model = LoadHand();
+  SimParams sim = Sim();
+  sim.palm_rpy = {0.0, 0.0, 0.0};
+  ObjectParams object;
+  object.shape = "box";
+  object.size = {0.04, 0.04, 0.01};
+  object.position = {0.0, 0.0, 0.1362 + 0.012 + 0.005 + 0.0005};
+  HandSim hand(model, sim, object);
+  hand.ReleaseObject();
+  for (int i = 0; i < 500; ++i) hand.Step();
+  const int m = model.FindFinger("M");
+  double sum = 0;
+  for (int i = 0; i < 500; ++i) {
+    hand.Step();
+    sum += hand.tactile()[m].force;
+    EXPECT_TRUE(hand.tactile()[m].in_contact);
+  }
+  const double weight = object.mass * 9.81;
+  EXPECT_NEAR(sum / 500, weight, 0.05 * weight);
+  EXPECT_LT(hand.tactile()[m].normal.z(), -0.99);
+  EXPECT_NEAR(hand.tactile()[m].position.z(), 0.1362 + 0.012, 5e-4);
+}
+
+// The middle finger's proximal joint driven 0.6 rad into a sphere held in place: kp 2 N*m/rad
+// asks 1.2 N*m of its servo, which gives the URDF's 0.7 N*m and no more; the finger presses the
+// sphere (at ~8 cm from the joint, several newtons), on its tip or its links.
+TEST_P(EnginesTest, AServoSaturatesAtTheURDFsEffortLimit) {
+  const HandModel model = LoadHand();
+  ObjectParams object;
+  object.position = {0.09, 0.0, 0.02};
+  HandSim hand(model, Sim(testing::StaticGraspSim()), object);
+  std::vector<double> q = testing::SqueezeTargets();
+  const int m = model.FindFinger("M");
+  const int pushed = model.fingers()[m].joints[1];
+  q[pushed] += 0.6;
+  std::string why;
+  ASSERT_TRUE(hand.SetJointTargets(q, &why)) << why;
+  for (int i = 0; i < 500; ++i) hand.Step();
+  const JointState joints = hand.joints();
+  for (int a = 0; a < model.num_actuated(); ++a) {
+    EXPECT_LE(std::abs(joints.effort[a]), model.actuated_joint(a).effort)
+        << model.actuated_joint(a).name;
+  }
+  EXPECT_EQ(joints.effort[pushed], model.actuated_joint(pushed).effort);
+  const TipState& tip = hand.tactile()[m];
+  std::printf("%s: M presses %.2f N with its tip, %.2f N with its links\n", GetParam(), tip.force,
+              tip.link_force);
+  EXPECT_GT(tip.force + tip.link_force, 2.0);
+}
+
+TEST_P(EnginesTest, TheSameCommandsGiveTheSameRun) {
+  const HandModel model = LoadHand();
+  ObjectParams object;
+  object.position = {0.09, 0.0, 0.02};
+  auto run = [&] {
+    HandSim hand(model, Sim(testing::StaticGraspSim()), object);
+    std::string why;
+    hand.SetJointTargets(testing::SqueezeTargets(), &why);
+    for (int i = 0; i < 200; ++i) hand.Step();
+    hand.ReleaseObject();
+    for (int i = 0; i < 300; ++i) hand.Step();
+    return std::make_pair(hand.object().pose, hand.joints().position);
+  };
+  const auto a = run(), b = run();
+  EXPECT_EQ(a.first.translation(), b.first.translation());
+  EXPECT_TRUE(a.first.linear() == b.first.linear());
+  EXPECT_EQ(a.second, b.second);
+}
+
+TEST_P(EnginesTest, EveryShapeFallsFree) {
+  const HandModel model = LoadHand();
+  for (const char* shape : {"sphere", "cylinder", "box", "capsule", "ellipsoid", "prism"}) {
+    ObjectParams object;
+    object.shape = shape;
+    object.position = {0.3, 0.5, 0.5};
+    object.rpy = {0.3, 0.2, 0.1};
+    HandSim hand(model, Sim(), object);
+    EXPECT_TRUE(hand.object().pose.isApprox(
+        PoseFromXyzRpy(object.position, object.rpy), 1e-9)) << shape;
+    hand.ReleaseObject();
+    for (int i = 0; i < 10; ++i) hand.Step();
+    EXPECT_LT(hand.object().linear_velocity.x(), -0.05) << shape << " falls";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothEngines, EnginesTest, ::testing::Values("bullet", "mujoco"));
+
+TEST(EngineConfigTest, AnUnknownEngineIsAConfigErrorNamingItsKey) {
+  const HandModel model = LoadHand();
+  SimParams sim;
+  sim.engine = "ode";
+  try {
+    HandSim hand(model, sim, ObjectParams{}, "run.yaml");
+    FAIL() << "accepted engine 'ode'";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("run.yaml: key 'sim.engine'"), std::string::npos)
+        << e.what();
+  }
+}
+
+// An object too light for MuJoCo's compiler (its inertia below mjMINVAL): one config error that
+// names the key and carries MuJoCo's own message.
+TEST(EngineConfigTest, AModelMujocoCannotCompileIsAConfigErrorWithItsMessage) {
+  const HandModel model = LoadHand();
+  SimParams sim;
+  sim.engine = "mujoco";
+  ObjectParams object;
+  object.mass = 1e-20;
+  try {
+    HandSim hand(model, sim, object, "run.yaml");
+    FAIL() << "MuJoCo compiled a 1e-20 kg object";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("run.yaml: key 'sim.engine': MuJoCo could not compile"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("mass and inertia"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace dmpl
