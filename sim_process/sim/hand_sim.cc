@@ -108,11 +108,12 @@ void SimParams::Validate(const std::string& source) const {
   if (mujoco.cone != "pyramidal" && mujoco.cone != "elliptic") {
     fail("mujoco.cone", "'" + mujoco.cone + "' is not pyramidal or elliptic");
   }
-  if (mujoco.integrator != "Euler" && mujoco.integrator != "RK4") {
-    fail("mujoco.integrator", "'" + mujoco.integrator + "' is not Euler or RK4");
-  }
   if (!(mujoco.solref[0] > 0) || !(mujoco.solref[1] > 0)) {
     fail("mujoco.solref", "time constant and damping ratio must be > 0");
+  }
+  if (!(mujoco.solimp[0] > 0 && mujoco.solimp[0] <= mujoco.solimp[1] && mujoco.solimp[1] < 1 &&
+        mujoco.solimp[2] > 0)) {
+    fail("mujoco.solimp", "needs 0 < dmin <= dmax < 1 and a width > 0");
   }
 }
 

@@ -132,6 +132,7 @@ class MujocoEngine : public PhysicsEngine {
       d_->qvel[joint_dof_[a]] = 0.0;
     }
     mj_kinematics(m_, d_);
+    begun_ = false;
   }
 
   JointState Joints() const override {
@@ -143,9 +144,10 @@ class MujocoEngine : public PhysicsEngine {
     return r;
   }
 
-  // tau_g = axis . sum over the joint's subtree of (com - anchor) x m g.
+  // tau_g = axis . sum over the joint's subtree of (com - anchor) x m g, from the kinematics of
+  // the step's first half (mj_step1), which Step() completes: no second pass of kinematics.
   std::vector<double> GravityTorques() override {
-    mj_kinematics(m_, d_);
+    BeginStep();
     const Eigen::Map<const Eigen::Vector3d> g(m_->opt.gravity);
     std::vector<double> tau(model_.num_actuated(), 0.0);
     for (int a = 0; a < model_.num_actuated(); ++a) {
@@ -162,10 +164,11 @@ class MujocoEngine : public PhysicsEngine {
   }
 
   void Step(const std::vector<double>& torques) override {
+    BeginStep();
     mju_zero(d_->qfrc_applied, m_->nv);
     for (int a = 0; a < model_.num_actuated(); ++a) d_->qfrc_applied[joint_dof_[a]] = torques[a];
-    if (held_) Pin();
-    mj_step(m_, d_);
+    mj_step2(m_, d_);
+    begun_ = false;
     if (held_) Pin();
   }
 
@@ -234,10 +237,12 @@ class MujocoEngine : public PhysicsEngine {
     held_pose_.assign(d_->qpos + object_qpos_, d_->qpos + object_qpos_ + 7);
     held_ = true;
     Pin();
+    begun_ = false;
   }
   void ReleaseObject() override {
     held_ = false;
     mju_zero(d_->qvel + object_dof_, 6);
+    begun_ = false;
   }
 
   Eigen::Vector3d TipPosition(int finger) const override {
@@ -248,6 +253,14 @@ class MujocoEngine : public PhysicsEngine {
  private:
   mjModel* Compile(const EngineScene& scene);
   void FindIndices(const EngineScene& scene);
+  // The half of a step that depends on positions and velocities only (kinematics, contacts);
+  // Euler's mj_step1 + mj_step2 is mj_step.
+  void BeginStep() {
+    if (begun_) return;
+    if (held_) Pin();
+    mj_step1(m_, d_);
+    begun_ = true;
+  }
   // Held "by a person": the object where it was held, at rest.
   void Pin() {
     std::copy(held_pose_.begin(), held_pose_.end(), d_->qpos + object_qpos_);
@@ -267,6 +280,7 @@ class MujocoEngine : public PhysicsEngine {
   int object_body_ = -1, object_qpos_ = -1, object_dof_ = -1;
   std::vector<double> held_pose_;
   bool held_ = false;
+  bool begun_ = false;  // mj_step1 done, mj_step2 to come
 };
 
 mjModel* MujocoEngine::Compile(const EngineScene& scene) {
@@ -301,15 +315,16 @@ mjModel* MujocoEngine::Compile(const EngineScene& scene) {
   const std::string hand_affinity = sim.physics.self_collision ? "1" : "2";
   InsertAfter(&xml, "autolimits=\"true\"/>",
               "\n  <option timestep=\"" + Num(sim.physics.time_step) +
-                  "\" gravity=\"" + Vec(gravity) + "\" cone=\"" + mj.cone + "\" integrator=\"" +
-                  mj.integrator + "\" iterations=\"" + std::to_string(mj.iterations) +
+                  "\" gravity=\"" + Vec(gravity) + "\" cone=\"" + mj.cone +
+                  "\" integrator=\"Euler\" iterations=\"" + std::to_string(mj.iterations) +
                   "\" noslip_iterations=\"" + std::to_string(mj.noslip_iterations) +
                   "\" impratio=\"" + Num(mj.impratio) + "\"/>");
   const std::string defaults =
       "<default><joint damping=\"" + Num(mj.joint_damping) +
       "\"/><geom contype=\"1\" conaffinity=\"" + hand_affinity + "\" friction=\"" +
       Num(sim.tactile.finger_friction) + " 0 0\" solref=\"" +
-      Num(mj.solref[0]) + " " + Num(mj.solref[1]) + "\"/></default>";
+      Num(mj.solref[0]) + " " + Num(mj.solref[1]) + "\" solimp=\"" + Num(mj.solimp[0]) + " " +
+      Num(mj.solimp[1]) + " " + Num(mj.solimp[2]) + "\"/></default>";
   if (xml.find("<default/>") != std::string::npos) {
     xml.replace(xml.find("<default/>"), 10, defaults);
   } else {

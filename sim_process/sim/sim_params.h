@@ -71,19 +71,25 @@ struct TactileParams {
 
 // Section `sim.mujoco`: what only the MuJoCo engine reads (sim.engine: mujoco). The shared
 // physics (time step, gravity, friction, servos) stays in `physics`, `servo` and `object`.
+// The integrator is MuJoCo's semi-implicit Euler, as Bullet's: a step is split in two halves
+// (mj_step1, mj_step2) so that the servos' gravity compensation reads the step's own kinematics.
 struct MujocoParams {
   // Joint damping MuJoCo integrates implicitly, N*m*s/rad, on top of the servo's kd: explicit
   // damping alone lets 1 ms servos on 10-60 g links ring.
   double joint_damping = 0.03;
-  // Friction: an elliptic cone with frictional constraints 30 times as stiff as normal ones.
-  // MuJoCo's soft contacts let a grasp creep; with the pyramidal cone and impratio 1 the static
-  // grasp's sphere crept out in 4 s, with these it moves < 0.1 mm in 3 s (sim engines_test).
+  // Friction: an elliptic cone with frictional constraints 100 times as stiff as normal ones, and
+  // contacts that yield little (solimp). MuJoCo's soft contacts let a grasp creep: with the
+  // pyramidal cone and impratio 1 the static grasp's sphere crept out in 4 s; with the elliptic
+  // cone, impratio 30 and solimp's defaults it moved 0.38 mm in 3 s; with these 0.04 mm
+  // (tools/dmpl bench sim).
   std::string cone = "elliptic";      // pyramidal or elliptic
-  std::string integrator = "Euler";   // Euler or RK4 (implicit needs MuJoCo 2.3)
   int iterations = 100;               // constraint solver (Newton)
   int noslip_iterations = 0;
-  double impratio = 30.0;             // frictional-to-normal impedance ratio
+  double impratio = 100.0;            // frictional-to-normal impedance ratio
   std::array<double, 2> solref = {0.002, 1.0};  // contact stiffness: time constant, damping ratio
+  // Contact impedance (dmin, dmax, width m): how little a contact yields; its friction creeps by
+  // (1 - d) / d of the force.
+  std::array<double, 3> solimp = {0.99, 0.999, 0.001};
   double torsional_friction = 0.005;  // m: the object's spin resistance at a contact
   double rolling_friction = 0.0001;   // m
 
@@ -91,11 +97,11 @@ struct MujocoParams {
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(joint_damping), AtLeast(0));
     a->Visit(DMPL_NVP(cone));
-    a->Visit(DMPL_NVP(integrator));
     a->Visit(DMPL_NVP(iterations), AtLeast(1));
     a->Visit(DMPL_NVP(noslip_iterations), AtLeast(0));
     a->Visit(DMPL_NVP(impratio), AtLeast(1));
     a->Visit(DMPL_NVP(solref));
+    a->Visit(DMPL_NVP(solimp));
     a->Visit(DMPL_NVP(torsional_friction), AtLeast(0));
     a->Visit(DMPL_NVP(rolling_friction), AtLeast(0));
   }

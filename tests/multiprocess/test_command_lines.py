@@ -34,7 +34,7 @@ EXECUTABLES = {
     "dmpl_hand_geometry": (["--config"], [], ["--config"], "--config"),
     "dmpl_surface": (["LOG", "--directions"], ["run.lcmlog"], ["--directions", "0"],
                      "--directions"),
-    "dmpl_bench_sim": (["--config", "--warmup", "--steps"], [], ["--steps", "x"], "--steps"),
+    "dmpl_bench_sim": (["--config", "--engine", "--warmup", "--steps"], [], ["--steps", "x"], "--steps"),
     "dmpl_bench_ik": (["--percentiles"], [], ["--percentiles=0"], "--percentiles"),
     "dmpl_bench_lcm_hop": (["echo", "ping"], ["ping"], ["ping", "--bytes", "many"], "--bytes"),
     "dmpl_channels_py": ([], [], ["--channels"], "--channels"),

@@ -1,10 +1,13 @@
 """tools/dmpl bench sim|ik|loop|faults [--json FILE]: benchmarks, measured side by side in one run.
 
-sim:  median wall time of one physics step of the hand holding the paper's sphere, dmpl's
-      simulator against PyBullet (PyPI) loading the same URDF and scene (configs/bench/sim_hold.yaml)
-      with the same time step, solver iterations and contact settings, and against MuJoCo (PyPI)
-      on the same URDF and scene with its own solver (bench_mujoco.py). Keys: dmpl_step_us,
-      pybullet_step_us, mujoco_step_us, ratio (dmpl / PyBullet), ratio_mujoco (dmpl / MuJoCo).
+sim:  median wall time of one physics step of the hand holding the paper's sphere
+      (configs/bench/sim_hold.yaml), four engines side by side: dmpl's simulator with Bullet and
+      with MuJoCo (sim.engine), PyBullet (PyPI) with the same time step, solver iterations and
+      contact settings as dmpl-Bullet, and MuJoCo (PyPI) with dmpl-MuJoCo's settings
+      (bench_mujoco.py). Keys: dmpl_step_us (Bullet), dmpl_mujoco_step_us, pybullet_step_us,
+      mujoco_step_us, ratio (dmpl-Bullet / PyBullet), ratio_mujoco (dmpl-MuJoCo / MuJoCo),
+      speedup_mujoco (dmpl-Bullet / dmpl-MuJoCo), and each engine's hold: the sphere's drift over
+      the timed steps (3 s), *_moved_m.
 faults: the rate at which each process of the loop, killed mid-gait, rejoins it (bench_faults.py).
 """
 import argparse
@@ -103,32 +106,40 @@ def pybullet_step_us(scene, warmup, steps):
             "object_moved_m": float(np.linalg.norm(end - start))}
 
 
-def dmpl_step_us(warmup, steps):
-    out = subprocess.run([executable("dmpl_bench_sim"), "--config", str(SIM_SCENE), "--warmup",
-                          str(warmup), "--steps", str(steps)], capture_output=True, text=True,
-                         check=True)
+def dmpl_step_us(warmup, steps, engine):
+    out = subprocess.run([executable("dmpl_bench_sim"), "--config", str(SIM_SCENE), "--engine",
+                          engine, "--warmup", str(warmup), "--steps", str(steps)],
+                         capture_output=True, text=True, check=True)
     return json.loads(out.stdout)
 
 
 def bench_sim(rounds=3, warmup=500, steps=3000):
-    """Alternates dmpl and PyBullet `rounds` times; reports the median of the round medians."""
+    """Alternates the four engines `rounds` times; reports the median of the round medians."""
     with open(SIM_SCENE) as f:
         scene = yaml.safe_load(f)
     from .bench_mujoco import mujoco_step_us
-    dmpl_runs, pyb_runs, mj_runs = [], [], []
+    runs = {"dmpl": [], "dmpl_mujoco": [], "pybullet": [], "mujoco": []}
     for r in range(rounds):
-        dmpl_runs.append(dmpl_step_us(warmup, steps))
-        pyb_runs.append(pybullet_step_us(scene, warmup, steps))
-        mj_runs.append(mujoco_step_us(scene, warmup, steps))
-        print(f"round {r + 1}/{rounds}: dmpl {dmpl_runs[-1]['step_us_median']:.1f} us, "
-              f"PyBullet {pyb_runs[-1]['step_us_median']:.1f} us, "
-              f"MuJoCo {mj_runs[-1]['step_us_median']:.1f} us", file=sys.stderr)
-    d = statistics.median(x["step_us_median"] for x in dmpl_runs)
-    b = statistics.median(x["step_us_median"] for x in pyb_runs)
-    m = statistics.median(x["step_us_median"] for x in mj_runs)
-    return {"dmpl_step_us": d, "pybullet_step_us": b, "mujoco_step_us": m, "ratio": d / b,
-            "ratio_mujoco": d / m, "rounds": rounds, "steps_per_round": steps,
-            "dmpl": dmpl_runs[-1], "pybullet": pyb_runs[-1], "mujoco": mj_runs[-1]}
+        runs["dmpl"].append(dmpl_step_us(warmup, steps, "bullet"))
+        runs["dmpl_mujoco"].append(dmpl_step_us(warmup, steps, "mujoco"))
+        runs["pybullet"].append(pybullet_step_us(scene, warmup, steps))
+        runs["mujoco"].append(mujoco_step_us(scene, warmup, steps,
+                                             runs["dmpl_mujoco"][-1]["mujoco"]))
+        print(f"round {r + 1}/{rounds}: "
+              + ", ".join(f"{label} {runs[key][-1]['step_us_median']:.1f} us"
+                          for key, label in (("dmpl", "dmpl-Bullet"), ("dmpl_mujoco", "dmpl-MuJoCo"),
+                                             ("pybullet", "PyBullet"), ("mujoco", "MuJoCo"))),
+              file=sys.stderr)
+    us = {key: statistics.median(x["step_us_median"] for x in v) for key, v in runs.items()}
+    return {"dmpl_step_us": us["dmpl"], "dmpl_mujoco_step_us": us["dmpl_mujoco"],
+            "pybullet_step_us": us["pybullet"], "mujoco_step_us": us["mujoco"],
+            "ratio": us["dmpl"] / us["pybullet"],
+            "ratio_mujoco": us["dmpl_mujoco"] / us["mujoco"],
+            "speedup_mujoco": us["dmpl"] / us["dmpl_mujoco"],
+            **{f"{key}_moved_m": statistics.median(x["object_moved_m"] for x in v)
+               for key, v in runs.items()},
+            "rounds": rounds, "steps_per_round": steps,
+            **{key: v[-1] for key, v in runs.items()}}
 
 
 def main(argv=None):

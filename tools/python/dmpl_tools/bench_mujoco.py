@@ -1,11 +1,14 @@
-"""MuJoCo as a second reference for `tools/dmpl bench sim`: the same URDF, scene and servo law.
+"""MuJoCo from PyPI as the reference of dmpl's MuJoCo engine in `tools/dmpl bench sim`: the same
+URDF, scene, servo law and MuJoCo settings.
 
 MuJoCo reads the hand's URDF itself; the sphere is added with a free joint. The scene is built in
 the palm frame, with gravity turned into it (the palm faces up: world -z is palm -x), so nothing
-needs the palm's pose. The joint torques are computed in Python each step from the same PD law,
-gains and effort limits as the PyBullet reference, and only `mj_step` is timed. MuJoCo's own
-solver (Newton, its default tolerance) and contact model are kept: what is compared is the cost
-of one step of each engine holding the same grasp, not identical contact physics.
+needs the palm's pose. The contact and joint settings are those dmpl's engine reports it ran with
+(`settings`, dmpl_bench_sim's "mujoco" object: cone, impratio, solref, solimp, joint damping,
+solver iterations, the object's torsional and rolling friction). The joint torques are computed in
+Python each step from the same PD law, gains and effort limits, and only `mj_step` is timed.
+What differs: PyPI's MuJoCo is a newer release than Debian's 2.2.2, and dmpl also compensates the
+links' gravity in its servos (a few dozen multiply-adds per step).
 """
 import statistics
 import time
@@ -26,17 +29,18 @@ def _rotation_rpy(rpy):
     return rz @ ry @ rx
 
 
-def mujoco_step_us(scene, warmup, steps):
+def mujoco_step_us(scene, warmup, steps, settings):
     import mujoco
     sim, obj, player = scene.get("sim", {}), scene["object"], scene["joint_player"]
     phys = sim.get("physics", {})
     spec = mujoco.MjSpec.from_file(str(URDF))
     spec.option.timestep = phys.get("time_step", 0.001)
     palm = _rotation_rpy(sim.get("palm_rpy", [0.0, -np.pi / 2, 0.0]))
-    # MuJoCo's soft friction lets a held object creep out of the grasp at its defaults (measured
-    # here: the sphere fell); elliptic friction cones and a high impedance ratio limit the slip.
-    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-    spec.option.impratio = 10.0
+    spec.option.cone = (mujoco.mjtCone.mjCONE_ELLIPTIC if settings["cone"] == "elliptic"
+                        else mujoco.mjtCone.mjCONE_PYRAMIDAL)
+    spec.option.impratio = settings["impratio"]
+    spec.option.iterations = settings["iterations"]
+    spec.option.noslip_iterations = settings["noslip_iterations"]
     spec.option.gravity = (palm.T @ np.array([0.0, 0.0, -9.81])).tolist()
     # MuJoCo filters a body's contacts with its parent, but not when the parent is welded to the
     # world, as the palm is: the links mounted on the palm, and the thumb's second link (the
@@ -45,12 +49,17 @@ def mujoco_step_us(scene, warmup, steps):
     palm_body = spec.body("palm")
     for child in [*palm_body.bodies, spec.body("T_link1")]:
         spec.add_exclude(bodyname1="palm", bodyname2=child.name)
+    for joint in spec.joints:  # MuJoCo 4 takes damping as polynomial coefficients
+        joint.damping = [settings["joint_damping"], 0.0, 0.0]
+    for geom in spec.geoms:
+        geom.solref, geom.solimp = settings["solref"], settings["solimp"] + [0.5, 2.0]
     ball = spec.worldbody.add_body(name="object", pos=list(obj["position"]))
     ball.add_freejoint()
     ball.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[obj["radius"], 0, 0],
-                  mass=obj["mass"],
-                  friction=[obj.get("friction", 1.0), obj.get("spinning_friction", 1e-3),
-                            obj.get("rolling_friction", 1e-4)])
+                  mass=obj["mass"], priority=1, condim=6, solref=settings["solref"],
+                  solimp=settings["solimp"] + [0.5, 2.0],
+                  friction=[obj.get("friction", 1.0), settings["torsional_friction"],
+                            settings["rolling_friction"]])
     model = spec.compile()
     data = mujoco.MjData(model)
     names = [f"{f}_j{k}" for f in FINGERS for k in range(4)]
