@@ -77,19 +77,20 @@ struct MujocoParams {
   // Joint damping MuJoCo integrates implicitly, N*m*s/rad, on top of the servo's kd: explicit
   // damping alone lets 1 ms servos on 10-60 g links ring.
   double joint_damping = 0.03;
-  // Friction: an elliptic cone with frictional constraints 100 times as stiff as normal ones, and
-  // contacts that yield little (solimp). MuJoCo's soft contacts let a grasp creep: with the
-  // pyramidal cone and impratio 1 the static grasp's sphere crept out in 4 s; with the elliptic
-  // cone, impratio 30 and solimp's defaults it moved 0.38 mm in 3 s; with these 0.04 mm
-  // (tools/dmpl bench sim).
+  // Friction: an elliptic cone, frictional constraints 300 times as stiff as normal ones, and
+  // contacts that yield less than MuJoCo's default (solimp). Its soft contacts let a grasp creep:
+  // tools/dmpl bench sim's hold moved 0.38 mm in 3 s at impratio 30 and solimp's defaults (with
+  // the pyramidal cone and impratio 1 the sphere crept out of the grasp in 4 s); with these
+  // 0.07 mm. Stiffer still (solimp 0.99/0.999) holds better but the gait then loses its contacts
+  // (about y 0 of 4 seeds).
   std::string cone = "elliptic";      // pyramidal or elliptic
   int iterations = 100;               // constraint solver (Newton)
   int noslip_iterations = 0;
-  double impratio = 100.0;            // frictional-to-normal impedance ratio
+  double impratio = 300.0;            // frictional-to-normal impedance ratio
   std::array<double, 2> solref = {0.002, 1.0};  // contact stiffness: time constant, damping ratio
-  // Contact impedance (dmin, dmax, width m): how little a contact yields; its friction creeps by
-  // (1 - d) / d of the force.
-  std::array<double, 3> solimp = {0.99, 0.999, 0.001};
+  // Contact impedance (dmin, dmax, width m): how little a contact yields (d near 1: stiff); a
+  // held object's creep grows with (1 - d) / d.
+  std::array<double, 3> solimp = {0.95, 0.99, 0.001};
   double torsional_friction = 0.005;  // m: the object's spin resistance at a contact
   double rolling_friction = 0.0001;   // m
 

@@ -65,6 +65,18 @@ class MainJobTest(unittest.TestCase):
                 self.assertEqual(a[key], b[key], f"{key}, delay {delay}")
             self.assertEqual(a["status"], "success")
 
+    def test_with_mujoco_one_process_equals_multi_process(self):
+        # The second engine (sim.engine: mujoco) is as deterministic as the first.
+        cpus, pins = loop_layout()
+        sets = [*SHORT, "sim.engine=mujoco"]
+        a, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=sets, echo=False,
+                              cpus=cpus, pins=pins)
+        b, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=sets, echo=False,
+                              one_process=True)
+        for key in METRIC_KEYS:
+            self.assertEqual(a[key], b[key], key)
+        self.assertEqual(a["status"], "success")
+
     def test_pinning_a_process_the_set_lacks_is_an_error(self):
         with self.assertRaisesRegex(SetError, r"--pin dmpl_simm: the experiment has no such "
                                     r"process \(it has dmpl_noise, .*dmpl_sim\)"):
