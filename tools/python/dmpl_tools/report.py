@@ -296,7 +296,7 @@ SURFACE_FIGURE = ("surface.png", "The object's surface as the hand felt it (the 
 GOALS_FIGURE = ("goals.png", "Angle to the current goal orientation, goals reached marked")
 FACES_FIGURE = ("faces.png", "The face each finger touches, detected by touch against true")
 
-HEADLINE = ["status", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
+HEADLINE = ["status", "engine", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
             "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
             "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
             "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n",

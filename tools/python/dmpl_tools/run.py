@@ -133,6 +133,7 @@ def run_experiment(config_path, out_dir=None, seed=None, sets=(), params=(), lcm
     summary = {"status": "failed", "experiment": name, "seed": config.get("run", {}).get("seed", 1),
                "object_shape": config.get("object", {}).get("shape", "sphere"),
                "object_mass_kg": config.get("object", {}).get("mass", 0.05),
+               "engine": config.get("sim", {}).get("engine", "bullet"),
                "record_policy": policy if columns else "not recorded"}
     problems = []
     if columns:
