@@ -79,10 +79,10 @@ struct MujocoParams {
   double joint_damping = 0.03;
   // Friction: an elliptic cone, frictional constraints 300 times as stiff as normal ones, and
   // contacts that yield less than MuJoCo's default (solimp). Its soft contacts let a grasp creep:
-  // tools/dmpl bench sim's hold moved 0.38 mm in 3 s at impratio 30 and solimp's defaults (with
-  // the pyramidal cone and impratio 1 the sphere crept out of the grasp in 4 s); with these
-  // 0.07 mm. Stiffer still (solimp 0.99/0.999) holds better but the gait then loses its contacts
-  // (about y 0 of 4 seeds).
+  // with the pyramidal cone and impratio 1 the sphere crept out of tools/dmpl bench sim's grasp
+  // in 4 s; at impratio 30 and solimp's defaults it moved 0.38 mm in 3 s; with these, 0.004 mm
+  // (0.07 mm while the contacts also resisted spin and roll). Stiffer still (solimp 0.99/0.999)
+  // the gait lost its contacts (about y 0 of 4 seeds).
   std::string cone = "elliptic";      // pyramidal or elliptic
   int iterations = 100;               // constraint solver (Newton)
   int noslip_iterations = 0;
@@ -91,8 +91,13 @@ struct MujocoParams {
   // Contact impedance (dmin, dmax, width m): how little a contact yields (d near 1: stiff); a
   // held object's creep grows with (1 - d) / d.
   std::array<double, 3> solimp = {0.95, 0.99, 0.001};
-  double torsional_friction = 0.005;  // m: the object's spin resistance at a contact
-  double rolling_friction = 0.0001;   // m
+  // The object's spin and roll resistance at a contact, m; 0 leaves the component out of the
+  // contact. Bullet's finger contacts have neither (it multiplies the two bodies' coefficients,
+  // and the links' are 0). In the elliptic cone every component shares the one cone: a spin
+  // resistance of 5 mm took so much of it that a sphere of friction 0.4 slipped out of the gait
+  // (0 of 3 seeds; 3 of 3 without it).
+  double torsional_friction = 0.0;
+  double rolling_friction = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {

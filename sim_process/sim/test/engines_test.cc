@@ -44,8 +44,9 @@ TEST_P(EnginesTest, AReleasedObjectFallsAlongThePalmsGravity) {
   EXPECT_NEAR(hand.object().linear_velocity.z(), -9.81 * t, 0.01 * 9.81 * t);
 }
 
-// The sphere squeezed in the experiments' grasp, released: it stays (drift under 0.1 mm/s, the
-// bench's hold criterion) on four tips, with a grip of a few times its weight.
+// The sphere squeezed in the experiments' grasp, released: it stays (drift under 0.1 mm in 3 s,
+// the bench's hold criterion; Bullet 0.018, MuJoCo 0.005) on four tips, with a grip of a few
+// times its weight.
 TEST_P(EnginesTest, AStaticGraspHoldsTheReleasedSphere) {
   const HandModel model = LoadHand();
   ObjectParams object;
@@ -70,7 +71,7 @@ TEST_P(EnginesTest, AStaticGraspHoldsTheReleasedSphere) {
   const double weight = object.mass * 9.81;
   std::printf("%s: drift %.4f mm in 3 s, grip %.3f N (weight %.3f N)\n", GetParam(),
               (p2 - p1).norm() * 1e3, grip, weight);
-  EXPECT_LT((p2 - p1).norm(), 3e-4);
+  EXPECT_LT((p2 - p1).norm(), 1e-4);
   EXPECT_GT(grip, weight);
   EXPECT_LT(grip, 10 * weight);
 }

@@ -29,6 +29,14 @@ def _rotation_rpy(rpy):
     return rz @ ry @ rx
 
 
+def contact_dimension(settings):
+    """The object's contact dimension as dmpl's engine chooses it: spin and roll only when their
+    coefficients are not zero."""
+    if settings["rolling_friction"] > 0:
+        return 6
+    return 4 if settings["torsional_friction"] > 0 else 3
+
+
 def mujoco_step_us(scene, warmup, steps, settings):
     import mujoco
     sim, obj, player = scene.get("sim", {}), scene["object"], scene["joint_player"]
@@ -56,7 +64,8 @@ def mujoco_step_us(scene, warmup, steps, settings):
     ball = spec.worldbody.add_body(name="object", pos=list(obj["position"]))
     ball.add_freejoint()
     ball.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[obj["radius"], 0, 0],
-                  mass=obj["mass"], priority=1, condim=6, solref=settings["solref"],
+                  mass=obj["mass"], priority=1, condim=contact_dimension(settings),
+                  solref=settings["solref"],
                   solimp=settings["solimp"] + [0.5, 2.0],
                   friction=[obj.get("friction", 1.0), settings["torsional_friction"],
                             settings["rolling_friction"]])
