@@ -87,7 +87,13 @@ struct MujocoParams {
   int iterations = 100;               // constraint solver (Newton)
   int noslip_iterations = 0;
   double impratio = 300.0;            // frictional-to-normal impedance ratio
-  std::array<double, 2> solref = {0.002, 1.0};  // contact stiffness: time constant, damping ratio
+  // Contact stiffness: time constant (s), damping ratio. At 2 ms (two steps, the stiffest MuJoCo
+  // allows) an explorer pressing 0.1 N bounced off the sphere and came back by a guarded move:
+  // turns 15-30 % slower than Bullet's, random goals a median of 92.5 (100 in 5 of 10 runs).
+  // From 3 to 10 ms the turns are Bullet's; 100 goals in 9, 10, 9 and 6 runs of 10 at 3, 4, 5
+  // and 10 ms. Softer contacts sink further under a hard press (a saturated finger advances
+  // 0.1 rad further than in Bullet in 1 s).
+  std::array<double, 2> solref = {0.004, 1.0};
   // Contact impedance (dmin, dmax, width m): how little a contact yields (d near 1: stiff); a
   // held object's creep grows with (1 - d) / d.
   std::array<double, 3> solimp = {0.95, 0.99, 0.001};

@@ -3,6 +3,7 @@
 // of a known contact, the servo's torque limit, determinism, and their configuration errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -102,9 +103,11 @@ TEST_P(EnginesTest, ABoxOnAnUpturnedFingertipWeighsMG) {
   EXPECT_NEAR(hand.tactile()[m].position.z(), 0.1362 + 0.012, 5e-4);
 }
 
-// The middle finger's proximal joint driven 0.6 rad into a sphere held in place: kp 2 N*m/rad
-// asks 1.2 N*m of its servo, which gives the URDF's 0.7 N*m and no more; the finger presses the
-// sphere (at ~8 cm from the joint, several newtons), on its tip or its links.
+// The middle finger's proximal joint driven 0.6 rad into the sphere the other fingers hold: kp
+// 2 N*m/rad asks 1.2 N*m of its servo, which gives the URDF's 0.7 N*m and no more; the finger
+// presses the sphere (at ~8 cm from the joint, several newtons), on its tip or its links. (As
+// the other contacts yield, the finger advances and its servo may leave the limit: MuJoCo's
+// softer contacts let it advance 0.1 rad further than Bullet's in 1 s.)
 TEST_P(EnginesTest, AServoSaturatesAtTheURDFsEffortLimit) {
   const HandModel model = LoadHand();
   ObjectParams object;
@@ -116,13 +119,17 @@ TEST_P(EnginesTest, AServoSaturatesAtTheURDFsEffortLimit) {
   q[pushed] += 0.6;
   std::string why;
   ASSERT_TRUE(hand.SetJointTargets(q, &why)) << why;
-  for (int i = 0; i < 500; ++i) hand.Step();
-  const JointState joints = hand.joints();
-  for (int a = 0; a < model.num_actuated(); ++a) {
-    EXPECT_LE(std::abs(joints.effort[a]), model.actuated_joint(a).effort)
-        << model.actuated_joint(a).name;
+  double largest_effort = 0.0;
+  for (int i = 0; i < 500; ++i) {
+    hand.Step();
+    const JointState joints = hand.joints();
+    for (int a = 0; a < model.num_actuated(); ++a) {
+      ASSERT_LE(std::abs(joints.effort[a]), model.actuated_joint(a).effort)
+          << model.actuated_joint(a).name << " at step " << i;
+    }
+    largest_effort = std::max(largest_effort, joints.effort[pushed]);
   }
-  EXPECT_EQ(joints.effort[pushed], model.actuated_joint(pushed).effort);
+  EXPECT_EQ(largest_effort, model.actuated_joint(pushed).effort);
   const TipState& tip = hand.tactile()[m];
   std::printf("%s: M presses %.2f N with its tip, %.2f N with its links\n", GetParam(), tip.force,
               tip.link_force);
