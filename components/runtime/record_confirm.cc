@@ -1,6 +1,7 @@
 #include "components/runtime/record_confirm.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace dmpl {
 
@@ -77,10 +78,23 @@ bool PublishedRecord::AllConfirmed() const {
 }
 
 uint64_t HashBytes(const void* data, size_t size) {
+  // FNV-1a's step over eight bytes at a time (every message the recorder hears is hashed, a few
+  // kB a tick: byte by byte it was 5 % of the one-process loop), then the tail, then a final
+  // mix so that the last word's bits reach the low ones too.
   const auto* bytes = static_cast<const uint8_t*>(data);
-  uint64_t hash = 14695981039346656037ull;
-  for (size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
-  return hash;
+  constexpr uint64_t kPrime = 1099511628211ull;
+  uint64_t hash = 14695981039346656037ull ^ size;
+  size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    uint64_t word;
+    std::memcpy(&word, bytes + i, 8);
+    hash = (hash ^ word) * kPrime;
+    hash ^= hash >> 29;
+  }
+  for (; i < size; ++i) hash = (hash ^ bytes[i]) * kPrime;
+  hash ^= hash >> 32;
+  hash *= 0x9e3779b97f4a7c15ull;
+  return hash ^ (hash >> 29);
 }
 
 ReceivedRecord::Verdict ReceivedRecord::Add(const std::string& channel, int64_t seq,

@@ -108,7 +108,7 @@ class ReceivedRecord {
   std::unordered_map<std::string, Channel> channels_;
 };
 
-// FNV-1a of a message's bytes (how the recorder tells copies apart).
+// A 64-bit hash of a message's bytes (how the recorder tells copies apart; never stored).
 uint64_t HashBytes(const void* data, size_t size);
 
 }  // namespace dmpl
