@@ -111,6 +111,12 @@ void SimParams::Validate(const std::string& source) const {
   if (!(mujoco.solref[0] > 0) || !(mujoco.solref[1] > 0)) {
     fail("mujoco.solref", "time constant and damping ratio must be > 0");
   }
+  // MuJoCo would silently stiffen a faster contact to two steps (its refsafe rule).
+  if (engine == "mujoco" && mujoco.solref[0] < 2 * physics.time_step) {
+    fail("mujoco.solref", "a time constant of " + std::to_string(mujoco.solref[0]) +
+                              " s is under two steps (sim.physics.time_step " +
+                              std::to_string(physics.time_step) + " s): MuJoCo cannot follow it");
+  }
   if (!(mujoco.solimp[0] > 0 && mujoco.solimp[0] <= mujoco.solimp[1] && mujoco.solimp[1] < 1 &&
         mujoco.solimp[2] > 0)) {
     fail("mujoco.solimp", "needs 0 < dmin <= dmax < 1 and a width > 0");

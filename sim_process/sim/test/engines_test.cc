@@ -186,6 +186,21 @@ TEST(EngineConfigTest, AnUnknownEngineIsAConfigErrorNamingItsKey) {
   }
 }
 
+// A contact faster than two steps, which MuJoCo would stiffen silently, is refused.
+TEST(EngineConfigTest, AContactFasterThanTwoStepsIsAConfigError) {
+  const HandModel model = LoadHand();
+  SimParams sim;
+  sim.engine = "mujoco";
+  sim.mujoco.solref = {0.0015, 1.0};
+  try {
+    HandSim hand(model, sim, ObjectParams{}, "run.yaml");
+    FAIL() << "accepted a 1.5 ms contact at 1 ms steps";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("run.yaml: key 'sim.mujoco.solref'"), std::string::npos)
+        << e.what();
+  }
+}
+
 // An object too light for MuJoCo's compiler (its inertia below mjMINVAL): one config error that
 // names the key and carries MuJoCo's own message.
 TEST(EngineConfigTest, AModelMujocoCannotCompileIsAConfigErrorWithItsMessage) {
