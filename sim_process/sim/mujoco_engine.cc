@@ -241,14 +241,19 @@ class MujocoEngine : public PhysicsEngine {
     return r;
   }
 
+  // Held, the object is as heavy as a wall to the contact solver (Bullet makes it kinematic):
+  // with its own 50 g within each step, a link pressing on it moved it before Pin() put it
+  // back, and the fingers closing on a 10 cm standing cylinder never all touched it at once.
   void HoldObject() override {
     held_pose_.assign(d_->qpos + object_qpos_, d_->qpos + object_qpos_ + 7);
     held_ = true;
+    SetObjectArmature(kHeldArmature);
     Pin();
     begun_ = false;
   }
   void ReleaseObject() override {
     held_ = false;
+    SetObjectArmature(0.0);
     mju_zero(d_->qvel + object_dof_, 6);
     begun_ = false;
   }
@@ -268,6 +273,10 @@ class MujocoEngine : public PhysicsEngine {
     if (held_) Pin();
     mj_step1(m_, d_);
     begun_ = true;
+  }
+  static constexpr double kHeldArmature = 1e4;  // kg, kg*m^2: added to the object's six dofs
+  void SetObjectArmature(double armature) {
+    for (int i = 0; i < 6; ++i) m_->dof_armature[object_dof_ + i] = armature;
   }
   // Held "by a person": the object where it was held, at rest.
   void Pin() {
