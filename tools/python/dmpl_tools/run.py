@@ -270,7 +270,7 @@ def _pinned(processes, pins):
             for p in processes]
 
 
-HEADLINE = ["status", "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
+HEADLINE = ["status", "engine", "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
             "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
             "sim_time_s", "wall_time_s", "realtime_factor"]
 
