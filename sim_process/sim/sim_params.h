@@ -80,7 +80,7 @@ struct MujocoParams {
   // Friction: an elliptic cone, frictional constraints 300 times as stiff as normal ones, and
   // contacts that yield less than MuJoCo's default (solimp). Its soft contacts let a grasp creep:
   // with the pyramidal cone and impratio 1 the sphere crept out of tools/dmpl bench sim's grasp
-  // in 4 s; at impratio 30 and solimp's defaults it moved 0.38 mm in 3 s; with these, 0.004 mm
+  // in 4 s; at impratio 30 and solimp's defaults it moved 0.38 mm in 3 s; with these, 0.009 mm
   // (0.07 mm while the contacts also resisted spin and roll). Stiffer still (solimp 0.99/0.999)
   // the gait lost its contacts (about y 0 of 4 seeds).
   std::string cone = "elliptic";      // pyramidal or elliptic
