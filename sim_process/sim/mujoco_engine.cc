@@ -88,14 +88,6 @@ void InsertBefore(std::string* text, const std::string& anchor, const std::strin
   text->insert(at, what);
 }
 
-// Which components of friction the object's contacts carry: sliding (3), and spin (4) and roll
-// (6) when their coefficients are not zero. With MuJoCo's elliptic cone every component shares
-// one cone, so a spin or roll resistance takes its share of the friction that holds the object.
-int ContactDimension(const MujocoParams& mj) {
-  if (mj.rolling_friction > 0) return 6;
-  return mj.torsional_friction > 0 ? 4 : 3;
-}
-
 // The object's geom (and, for a hull, its mesh asset), in its principal frame.
 std::string ObjectGeom(const ObjectParams& o, const ObjectBody& body, std::string* asset) {
   const auto f = Num;
@@ -362,7 +354,7 @@ mjModel* MujocoEngine::Compile(const EngineScene& scene) {
                    Quat(start.linear()) + "\">\n      <freejoint/>\n      <inertial pos=\"0 0 0\" "
                    "mass=\"" + Num(o.mass) + "\" diaginertia=\"" +
                    Vec(scene.body.inertia) + "\"/>\n      <geom " + geom +
-                   " priority=\"1\" condim=\"" + std::to_string(ContactDimension(mj)) +
+                   " priority=\"1\" condim=\"" + std::to_string(mj.contact_dimension()) +
                    "\" contype=\"1\" conaffinity=\"1\" friction=\"" +
                    friction + "\"/>\n    </body>\n  ");
   if (!asset.empty()) InsertBefore(&xml, "<worldbody>", asset + "  ");

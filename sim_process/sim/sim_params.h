@@ -105,6 +105,13 @@ struct MujocoParams {
   double torsional_friction = 0.0;
   double rolling_friction = 0.0;
 
+  // Which components of friction the object's contacts carry (MuJoCo's condim): sliding (3),
+  // and spin (4) and roll (6) when their coefficients are not zero.
+  int contact_dimension() const {
+    if (rolling_friction > 0) return 6;
+    return torsional_friction > 0 ? 4 : 3;
+  }
+
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(joint_damping), AtLeast(0));

@@ -5,8 +5,9 @@ MuJoCo reads the hand's URDF itself; the sphere is added with a free joint. The 
 the palm frame, with gravity turned into it (the palm faces up: world -z is palm -x), so nothing
 needs the palm's pose. The contact and joint settings are those dmpl's engine reports it ran with
 (`settings`, dmpl_bench_sim's "mujoco" object: cone, impratio, solref, solimp, joint damping,
-solver iterations, the object's torsional and rolling friction). The joint torques are computed in
-Python each step from the same PD law, gains and effort limits, and only `mj_step` is timed.
+solver iterations, the object's torsional and rolling friction and the contact dimension they
+give). The joint torques are computed in Python each step from the same PD law, gains and effort
+limits, and only `mj_step` is timed.
 What differs: PyPI's MuJoCo is a newer release than Debian's 2.2.2, and dmpl also compensates the
 links' gravity in its servos (a few dozen multiply-adds per step).
 """
@@ -27,14 +28,6 @@ def _rotation_rpy(rpy):
     ry = np.array([[np.cos(p), 0, np.sin(p)], [0, 1, 0], [-np.sin(p), 0, np.cos(p)]])
     rz = np.array([[np.cos(y), -np.sin(y), 0], [np.sin(y), np.cos(y), 0], [0, 0, 1]])
     return rz @ ry @ rx
-
-
-def contact_dimension(settings):
-    """The object's contact dimension as dmpl's engine chooses it: spin and roll only when their
-    coefficients are not zero."""
-    if settings["rolling_friction"] > 0:
-        return 6
-    return 4 if settings["torsional_friction"] > 0 else 3
 
 
 def mujoco_step_us(scene, warmup, steps, settings):
@@ -64,7 +57,7 @@ def mujoco_step_us(scene, warmup, steps, settings):
     ball = spec.worldbody.add_body(name="object", pos=list(obj["position"]))
     ball.add_freejoint()
     ball.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[obj["radius"], 0, 0],
-                  mass=obj["mass"], priority=1, condim=contact_dimension(settings),
+                  mass=obj["mass"], priority=1, condim=settings["condim"],
                   solref=settings["solref"],
                   solimp=settings["solimp"] + [0.5, 2.0],
                   friction=[obj.get("friction", 1.0), settings["torsional_friction"],
