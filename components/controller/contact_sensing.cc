@@ -41,9 +41,8 @@ LinkContact FindLinkContact(const HandKinematics& kin, int f,
                             double tip_force_n, const Eigen::Vector3d& normal,
                             double threshold_nm, double friction) {
   const std::vector<int>& joints = kin.joint_indices(f);
-  Eigen::Vector3d tip;
   Eigen::Matrix3Xd jac;
-  kin.finger(f).TipJacobian(kin.FingerJoints(f, q), &tip, &jac);
+  kin.finger(f).PositionJacobian(kin.FingerJoints(f, q), &jac);
   // In equilibrium the servos' torques balance the contact forces: effort + J^T f = 0 for a
   // contact on the tip only.
   Eigen::VectorXd residual = jac.transpose() * (tip_force_n * normal);

@@ -30,11 +30,12 @@ IkResult SolveFrom(const FingerKinematics& finger, const Eigen::VectorXd& seed,
   const Eigen::VectorXd mid = (lo + hi) / 2.0;
   IkResult r;
   r.q = seed.cwiseMax(lo).cwiseMin(hi);
-  Eigen::Vector3d tip;
   Eigen::Matrix3Xd jac(3, n);
   const double lambda2 = params.damping_m * params.damping_m;
+  // The tip is known at r.q until a step moves it; the Jacobian only when a step is taken (a
+  // warm-started solve usually converges without one).
+  Eigen::Vector3d tip = finger.TipPosition(r.q);
   for (r.iterations = 0; r.iterations < params.max_iterations; ++r.iterations) {
-    finger.TipJacobian(r.q, &tip, &jac);
     const Eigen::Vector3d e = target - tip;
     r.residual_m = e.norm();
     // A finger with an approach direction turns its axis a step each tick even while its tip
@@ -42,6 +43,7 @@ IkResult SolveFrom(const FingerKinematics& finger, const Eigen::VectorXd& seed,
     const bool turning =
         r.iterations == 0 && params.approach_gain > 0 && approach.squaredNorm() > 0;
     if (r.residual_m < params.tolerance_m && !turning) break;
+    finger.PositionJacobian(r.q, &jac);
     Eigen::VectorXd dq;
     Eigen::VectorXi active = Eigen::VectorXi::Ones(n);
     // Two passes: solve, then freeze joints the step pushes through a limit, and solve again.
@@ -69,8 +71,8 @@ IkResult SolveFrom(const FingerKinematics& finger, const Eigen::VectorXd& seed,
       if (!changed) break;
     }
     r.q = (r.q + dq).cwiseMax(lo).cwiseMin(hi);
+    tip = finger.TipPosition(r.q);
   }
-  finger.TipJacobian(r.q, &tip, &jac);
   r.residual_m = (target - tip).norm();
   const bool at_limit = ((r.q - lo).array() < 1e-9).any() || ((hi - r.q).array() < 1e-9).any();
   if (r.residual_m < params.tolerance_m) {

@@ -36,10 +36,12 @@ Eigen::Vector3d FingerKinematics::TipPosition(const Eigen::VectorXd& q) const {
 
 void FingerKinematics::TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip,
                                    Eigen::Matrix3Xd* jac) const {
+  *tip = TipPosition(q);
+  PositionJacobian(q, jac);
+}
+
+void FingerKinematics::PositionJacobian(const Eigen::VectorXd& q, Eigen::Matrix3Xd* jac) const {
   q_kdl_.data = q;
-  KDL::Frame frame;
-  DMPL_DEMAND(fk_->JntToCart(q_kdl_, frame) >= 0);
-  *tip = Eigen::Vector3d(frame.p.x(), frame.p.y(), frame.p.z());
   // KDL's Jacobian is referenced to the chain's tip: its linear rows are the tip velocity.
   DMPL_DEMAND(jac_->JntToJac(q_kdl_, jac_kdl_) >= 0);
   *jac = jac_kdl_.data.topRows<3>();

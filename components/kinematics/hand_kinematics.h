@@ -29,6 +29,9 @@ class FingerKinematics {
   void TipFrame(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Vector3d* axis) const;
   // Tip position and its 3 x n position Jacobian.
   void TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Matrix3Xd* jac) const;
+  // The Jacobian alone, for callers that have the tip already (KDL's Jacobian solver runs its
+  // own forward kinematics: a separate TipPosition would be a second one).
+  void PositionJacobian(const Eigen::VectorXd& q, Eigen::Matrix3Xd* jac) const;
   // The fingertip's axis (the unit z of the tip frame: the distal link's direction, from its
   // joint to the tip centre) in the palm frame, and each joint's rotation axis there (3 x n):
   // the axis turns by omega_k x axis per unit of joint k.
