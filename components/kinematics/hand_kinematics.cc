@@ -34,12 +34,6 @@ Eigen::Vector3d FingerKinematics::TipPosition(const Eigen::VectorXd& q) const {
   return Eigen::Vector3d(frame.p.x(), frame.p.y(), frame.p.z());
 }
 
-void FingerKinematics::TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip,
-                                   Eigen::Matrix3Xd* jac) const {
-  *tip = TipPosition(q);
-  PositionJacobian(q, jac);
-}
-
 void FingerKinematics::PositionJacobian(const Eigen::VectorXd& q, Eigen::Matrix3Xd* jac) const {
   q_kdl_.data = q;
   // KDL's Jacobian is referenced to the chain's tip: its linear rows are the tip velocity.

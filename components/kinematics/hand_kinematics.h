@@ -27,10 +27,8 @@ class FingerKinematics {
   Eigen::Vector3d TipPosition(const Eigen::VectorXd& q) const;
   // Tip position and the fingertip's axis (TipAxis), from one forward kinematics.
   void TipFrame(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Vector3d* axis) const;
-  // Tip position and its 3 x n position Jacobian.
-  void TipJacobian(const Eigen::VectorXd& q, Eigen::Vector3d* tip, Eigen::Matrix3Xd* jac) const;
-  // The Jacobian alone, for callers that have the tip already (KDL's Jacobian solver runs its
-  // own forward kinematics: a separate TipPosition would be a second one).
+  // The tip's 3 x n position Jacobian (KDL's Jacobian solver runs its own forward kinematics:
+  // callers that need the tip too ask TipPosition only when they use it).
   void PositionJacobian(const Eigen::VectorXd& q, Eigen::Matrix3Xd* jac) const;
   // The fingertip's axis (the unit z of the tip frame: the distal link's direction, from its
   // joint to the tip centre) in the palm frame, and each joint's rotation axis there (3 x n):

@@ -28,9 +28,8 @@ class LinkContactTest : public ::testing::Test {
   // `extra` on the finger's joints (a contact elsewhere).
   std::vector<double> Holding(double force, const Eigen::Vector3d& normal,
                               const Eigen::Vector4d& extra) const {
-    Eigen::Vector3d tip;
     Eigen::Matrix3Xd jac;
-    kin_.finger(kF).TipJacobian(kin_.FingerJoints(kF, q_), &tip, &jac);
+    kin_.finger(kF).PositionJacobian(kin_.FingerJoints(kF, q_), &jac);
     const Eigen::VectorXd tau = -jac.transpose() * (force * normal);
     std::vector<double> effort(kin_.num_joints(), 0.0);
     for (int j = 0; j < 4; ++j) effort[kin_.joint_indices(kF)[j]] = tau[j] + extra[j];

@@ -51,9 +51,9 @@ TEST(HandKinematicsTest, JacobianMatchesFiniteDifferences) {
     for (int k = 0; k < q.size(); ++k) {
       q[k] = std::uniform_real_distribution<double>(finger.lower()[k], finger.upper()[k])(rng);
     }
-    Eigen::Vector3d tip;
+    const Eigen::Vector3d tip = finger.TipPosition(q);
     Eigen::Matrix3Xd jac;
-    finger.TipJacobian(q, &tip, &jac);
+    finger.PositionJacobian(q, &jac);
     for (int k = 0; k < q.size(); ++k) {
       Eigen::VectorXd dq = q;
       dq[k] += 1e-7;

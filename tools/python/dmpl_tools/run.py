@@ -270,8 +270,8 @@ def _pinned(processes, pins):
             for p in processes]
 
 
-HEADLINE = ["status", "engine", "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
-            "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
+HEADLINE = ["status", "engine", "object_dropped", "rotation_total_rad",
+            "final_orientation_error_rad", "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
             "sim_time_s", "wall_time_s", "realtime_factor"]
 
 
