@@ -35,15 +35,14 @@ LogRecorder::LogRecorder(LcmBus* bus, const RecordOptions& options)
   if (!options.columns_dir.empty()) {
     columns_ = std::make_unique<LogColumns>(options.columns_dir, ".*", options.columns_fields);
   }
-  for (lcm::LCM* l : bus->All()) {
-    lcm::Subscription* sub = l->subscribe(options.channels, &LogRecorder::OnMessage, this);
-    sub->setQueueCapacity(1 << 20);
-    subs_.emplace_back(l, sub);
-  }
-  lcm::LCM& ledgers = bus->For(channels::kRecordLedger);
-  subs_.emplace_back(&ledgers, ledgers.subscribe(channels::kRecordLedger, &LogRecorder::OnLedger,
-                                                 this));
-  subs_.back().second->setQueueCapacity(1 << 12);
+  subscriptions_.push_back(bus->SubscribeEveryBus(
+      options.channels,
+      [this](const lcm::ReceiveBuffer* rbuf, const std::string& ch) { OnMessage(rbuf, ch); },
+      1 << 20));
+  subscriptions_.push_back(bus->Subscribe(
+      channels::kRecordLedger,
+      [this](const lcm::ReceiveBuffer* rbuf, const std::string& ch) { OnLedger(rbuf, ch); },
+      1 << 12));
 }
 
 bool LogRecorder::SureItIsLost(const std::string& publisher, const LedgerEntry& entry,
@@ -83,12 +82,12 @@ void LogRecorder::OnLedger(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     out.num_have = static_cast<int32_t>(r.have.size());
     out.have = r.have;
     if (!r.complete) asked_again_ += m->count[i] - out.num_have;
-    bus_->For(channels::kRecordReceipt).publish(channels::kRecordReceipt, &out);
+    bus_->Publish(channels::kRecordReceipt, out);
   }
 }
 
 LogRecorder::~LogRecorder() {
-  for (auto& [l, sub] : subs_) l->unsubscribe(sub);
+  for (int id : subscriptions_) bus_->Unsubscribe(id);
   if (log_ != nullptr) lcm_eventlog_destroy(log_);
 }
 

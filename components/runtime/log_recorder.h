@@ -68,7 +68,7 @@ class LogRecorder {
   lcm_eventlog_t* log_ = nullptr;
   RecordFilter filter_;
   std::unique_ptr<LogColumns> columns_;
-  std::vector<std::pair<lcm::LCM*, lcm::Subscription*>> subs_;
+  std::vector<int> subscriptions_;  // ids on bus_
   LcmBus* bus_;
   ReceivedRecord received_record_;
   std::unordered_map<std::string, LedgerEntry> final_ledgers_;  // publisher/channel: the last

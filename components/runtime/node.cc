@@ -59,13 +59,17 @@ constexpr double kFinalLedgerPeriodS = 0.02;
 Node::Node(std::string name, LcmBus* bus)
     : name_(std::move(name)), bus_(bus), logger_(MakeLogger(name_)) {}
 
+Node::~Node() {
+  for (int id : subscriptions_) bus_->Unsubscribe(id);
+}
+
 void Node::AddTimer(double period_s, std::function<void()> fn, bool while_stopping) {
   timers_.push_back({period_s, MonotonicSeconds() + period_s, std::move(fn), while_stopping});
 }
 
 void Node::ConfirmWithRecorder() {
-  // In one process (memq) nothing is lost.
-  if (bus_->url().rfind("memq", 0) == 0) return;
+  // In one process nothing is lost.
+  if (bus_->in_process()) return;
   record_ = std::make_unique<PublishedRecord>(kRecordDepth);
   Subscribe(channels::kRecordReceipt, &Node::OnReceipt, this);
   AddTimer(kLedgerPeriodS, [this] { PublishLedger(false); });
@@ -87,14 +91,14 @@ void Node::PublishLedger(bool stopping) {
     m.through_seq.push_back(e.through_seq);
     m.count.push_back(e.count);
   }
-  lcm(channels::kRecordLedger).publish(channels::kRecordLedger, &m);
+  bus_->Publish(channels::kRecordLedger, m);
 }
 
 void Node::OnReceipt(const lcm::ReceiveBuffer*, const std::string&, const record_receipt_t* m) {
   if (m->publisher != name_) return;
   const Receipt receipt{m->channel, m->complete != 0, m->after_seq, m->through_seq, m->have};
   for (const std::vector<uint8_t>* bytes : record_->Confirm(receipt)) {
-    lcm(m->channel).publish(m->channel, bytes->data(), static_cast<unsigned>(bytes->size()));
+    bus_->Publish(m->channel, bytes->data(), static_cast<unsigned>(bytes->size()));
   }
 }
 
@@ -128,6 +132,7 @@ void Node::CountUndecodable(const std::string& channel, const char* type, uint32
 }
 
 void Node::KeepForResend(const RunParams& run, size_t depth) {
+  if (bus_->in_process()) return;  // nothing is lost in one process
   resender_ = std::make_unique<Resender>(depth, run.lockstep ? run.resend_after_s : 0.0);
   if (resender_->enabled()) {
     // Also while the node stops: its last messages may still be what the loop waits for.
@@ -161,13 +166,13 @@ void Executor::PublishHeartbeats(int8_t state) {
     hb.state = node->state_ == heartbeat_t::FAULT ? heartbeat_t::FAULT : state;
     hb.count = node->heartbeats_++;
     hb.status = node->status_text_;
-    bus_->For(channels::kHeartbeat).publish(channels::kHeartbeat, &hb);
+    bus_->Publish(channels::kHeartbeat, hb);
   }
 }
 
 void Executor::SpinOnce(double max_wait_s, bool stopping) {
   // Wait for traffic, but not past the next timer.
-  double now = MonotonicSeconds();
+  const double now = MonotonicSeconds();
   double next = now + max_wait_s;
   for (Node* node : nodes_) {
     for (const auto& t : node->timers_) {
@@ -175,6 +180,16 @@ void Executor::SpinOnce(double max_wait_s, bool stopping) {
     }
   }
   const int timeout_ms = std::clamp(static_cast<int>((next - now) * 1000.0) + 1, 0, 50);
+  if (InProcessQueue* queue = bus_->in_process()) {
+    // One message, as LCM's handle() would; with none queued only a timer can publish one.
+    if (!queue->DeliverOne()) poll(nullptr, 0, timeout_ms);
+  } else if (!HandleNetworkTraffic(timeout_ms)) {
+    return;
+  }
+  RunTimers(stopping);
+}
+
+bool Executor::HandleNetworkTraffic(int timeout_ms) {
   // Every bus subscribed on, the management bus first; a readable one has a message to handle.
   if (listened_.size() != bus_->listened().size()) {
     listened_ = bus_->listened();
@@ -185,12 +200,16 @@ void Executor::SpinOnce(double max_wait_s, bool stopping) {
   if (ready < 0 && errno != EINTR) {
     nodes_.front()->log().error("poll on the LCM buses failed; stopping");
     nodes_.front()->RequestExit(1);
-    return;
+    return false;
   }
   for (size_t i = 0; ready > 0 && i < listened_.size(); ++i) {
     if (fds_[i].revents & POLLIN) listened_[i]->handle();
   }
-  now = MonotonicSeconds();
+  return true;
+}
+
+void Executor::RunTimers(bool stopping) {
+  const double now = MonotonicSeconds();
   for (Node* node : nodes_) {
     for (auto& t : node->timers_) {
       if (now >= t.next_s && (!stopping || t.while_stopping)) {

@@ -44,27 +44,21 @@ template <typename Msg>
 struct HasRunId<Msg, std::void_t<decltype(std::declval<Msg>().run_id)>> : std::true_type {};
 
 class Node {
-  // One subscription that decodes its messages itself (see Subscribe).
-  struct Decoding {
-    std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn;
-    void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-      fn(rbuf, channel);
-    }
-  };
-
  public:
   Node(std::string name, LcmBus* bus);
   // A node of a run: its name, bus and run identity (run.run_id).
   explicit Node(const NodeContext& ctx);
-  virtual ~Node() = default;
+  virtual ~Node();
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
 
   const std::string& name() const { return name_; }
   spdlog::logger& log() const { return *logger_; }
-  // The LCM instance `channel` travels on: lcm() to publish, listen() to subscribe.
-  lcm::LCM& lcm(const std::string& channel) const { return bus_->For(channel); }
-  lcm::LCM& listen(const std::string& channel) const { return bus_->Listen(channel); }
+  // Publishes a message that is neither kept for resending nor confirmed by the recorder.
+  template <typename Msg>
+  void Publish(const std::string& channel, const Msg& msg) {
+    bus_->Publish(channel, msg);
+  }
 
   // Called once by the executor after every node was constructed (subscriptions exist).
   virtual void OnStart() {}
@@ -79,10 +73,9 @@ class Node {
                  void (Handler::*method)(const lcm::ReceiveBuffer*, const std::string&,
                                          const Msg*),
                  Handler* handler) {
-    auto decoding = std::make_unique<Decoding>();
     const bool loop = channels::IsLoopChannel(channel);
-    decoding->fn = [this, method, handler, loop](const lcm::ReceiveBuffer* rbuf,
-                                                 const std::string& ch) {
+    auto decoding = [this, method, handler, loop](const lcm::ReceiveBuffer* rbuf,
+                                                  const std::string& ch) {
       if (stopping_ && ch != channels::kRecordReceipt) return;  // awaiting receipts only
       Msg msg;
       if (!DecodeMessage(rbuf->data, rbuf->data_size, &msg)) {
@@ -97,8 +90,7 @@ class Node {
       }
       (handler->*method)(rbuf, ch, &msg);
     };
-    listen(channel).subscribe(channel, &Decoding::OnMessage, decoding.get());
-    subscriptions_.push_back(std::move(decoding));
+    subscriptions_.push_back(bus_->Subscribe(channel, std::move(decoding)));
   }
   int64_t undecodable() const { return undecodable_; }
   // This run's identity, for the messages the node sends (0: none).
@@ -124,7 +116,7 @@ class Node {
     }
     std::vector<uint8_t> bytes = Encode(msg);
     if (record_) record_->Add(channel, msg.seq, bytes);
-    resender_->PublishBytes(lcm(channel), channel, std::move(bytes), MonotonicSeconds());
+    resender_->PublishBytes(bus_->For(channel), channel, std::move(bytes), MonotonicSeconds());
   }
   int64_t resent() const { return resender_ ? resender_->resent() : 0; }
   // Publishes a message for the recorder (a status): on a network bus it is kept until the
@@ -132,11 +124,11 @@ class Node {
   template <typename Msg>
   void PublishRecorded(const std::string& channel, const Msg& msg) {
     if (!record_) {
-      lcm(channel).publish(channel, &msg);
+      bus_->Publish(channel, msg);
       return;
     }
     std::vector<uint8_t> bytes = Encode(msg);
-    lcm(channel).publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+    bus_->Publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
     record_->Add(channel, msg.seq, std::move(bytes));
   }
 
@@ -175,7 +167,7 @@ class Node {
   std::unique_ptr<Resender> resender_;
   std::unique_ptr<PublishedRecord> record_;
   bool stopping_ = false;
-  std::vector<std::unique_ptr<Decoding>> subscriptions_;
+  std::vector<int> subscriptions_;  // ids on bus_
   int64_t undecodable_ = 0;
   int64_t foreign_ = 0;
   int64_t run_id_ = 0;
@@ -199,6 +191,10 @@ class Executor {
   void PublishHeartbeats(int8_t state);
   // Handles traffic and the timers due once, waiting at most `max_wait_s` for traffic.
   void SpinOnce(double max_wait_s, bool stopping);
+  // A network bus: waits at most `timeout_ms` for traffic and handles what came; false when
+  // polling failed (the executor then stops).
+  bool HandleNetworkTraffic(int timeout_ms);
+  void RunTimers(bool stopping);
   // At the stop: the nodes wait (at most a second) until the recorder confirms what they sent.
   void AwaitReceipts();
   LcmBus* bus_;

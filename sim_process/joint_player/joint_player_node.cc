@@ -40,7 +40,7 @@ class JointPlayerNode : public Node {
     cmd_.utime = m->utime;
     cmd_.seq = m->seq;
     cmd_.position = trajectory_.At(t);
-    lcm(channels::kJointCmd).publish(channels::kJointCmd, &cmd_);
+    Publish(channels::kJointCmd, cmd_);
   }
 
   void SendControl(int8_t command, int64_t seq, const std::string& reason) {
@@ -49,7 +49,7 @@ class JointPlayerNode : public Node {
     c.seq = seq;
     c.command = command;
     c.reason = reason;
-    lcm(channels::kSimControl).publish(channels::kSimControl, &c);
+    Publish(channels::kSimControl, c);
   }
 
   JointPlayerParams params_;

@@ -50,7 +50,7 @@ class NoiseNode : public Node {
       hand_sensors_t m = ToMessage(*sensed);
       m.run_id = run_id();
       PublishLoop(channels::kSensors, m);
-      if (view_gate_.Due(m.utime)) lcm(channels::kViewSensed).publish(channels::kViewSensed, &m);
+      if (view_gate_.Due(m.utime)) Publish(channels::kViewSensed, m);
       set_tick(truth.seq);
     }
   }

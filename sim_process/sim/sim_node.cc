@@ -132,7 +132,7 @@ class SimNode : public Node, private SimLoop {
     ToArray(sim_.gravity_in_palm(), sensors_msg_.gravity);
     PublishLoop(channels::kSensorsTrue, sensors_msg_);
     if (view_gate_.Due(utime)) {
-      lcm(channels::kViewTruth).publish(channels::kViewTruth, &sensors_msg_);
+      Publish(channels::kViewTruth, sensors_msg_);
     }
     if (!run_.lockstep) publish_times_[tick % kLatencyWindow] = MonotonicSeconds();
     set_tick(tick);

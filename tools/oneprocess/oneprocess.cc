@@ -94,7 +94,7 @@ int Run(dmpl::LcmBus* bus, const dmpl::RunParams& run,
   for (auto& n : nodes) executor.Add(n.get());
   const double t0 = dmpl::MonotonicSeconds();
   const int code = executor.Spin();
-  while (bus->management().handleTimeout(0) > 0) {  // deliver what is still queued
+  while (bus->in_process()->DeliverOne()) {  // deliver what is still queued
   }
   if (recorder) {
     try {
@@ -138,11 +138,7 @@ int main(int argc, char** argv) {
     log->critical("one-process mode runs in lockstep only (run.lockstep is false)");
     return 2;
   }
-  dmpl::LcmBus bus("memq://", false);
-  if (!bus.good()) {
-    log->critical("cannot open an in-process LCM bus");
-    return 3;
-  }
+  dmpl::LcmBus bus("memq://", false);  // the in-process queue
   ctx.bus = &bus;
   std::list<dmpl::NodeContext> contexts;  // before the nodes: destroyed after them
   std::vector<std::unique_ptr<dmpl::Node>> nodes;

@@ -23,12 +23,10 @@ class LogRecorderTest : public ::testing::Test {
 
   template <typename Msg>
   void Publish(const std::string& channel, const Msg& m) {
-    bus_.For(channel).publish(channel, &m);
+    bus_.Publish(channel, m);
   }
   void Drain() {
-    for (lcm::LCM* l : bus_.All()) {
-      while (l->handleTimeout(0) > 0) {
-      }
+    while (bus_.in_process()->DeliverOne()) {
     }
   }
   static hand_sensors_t Truth(int64_t run_id, int64_t seq) {

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
+#include "components/logging/decode.h"
 #include "components/runtime/config.h"
 #include "components/runtime/node.h"
 
@@ -40,7 +41,10 @@ class NodeHarness {
   std::deque<Msg>& Collect(const std::string& channel) {
     auto sink = std::make_unique<Sink<Msg>>();
     std::deque<Msg>& messages = sink->messages;
-    bus_.Listen(channel).subscribe(channel, &Sink<Msg>::OnMessage, sink.get());
+    Sink<Msg>* s = sink.get();
+    bus_.Subscribe(channel, [s](const lcm::ReceiveBuffer* rbuf, const std::string& ch) {
+      s->OnMessage(rbuf, ch);
+    });
     sinks_.push_back(std::move(sink));
     return messages;
   }
@@ -48,12 +52,12 @@ class NodeHarness {
   // Publishes `msg` as any process would, and delivers it and whatever it causes.
   template <typename Msg>
   void Publish(const std::string& channel, const Msg& msg) {
-    bus_.For(channel).publish(channel, &msg);
+    bus_.Publish(channel, msg);
     Deliver();
   }
   // Bytes that are not a message of the channel's type.
   void PublishBytes(const std::string& channel, const std::string& bytes) {
-    bus_.For(channel).publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+    bus_.Publish(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
     Deliver();
   }
 
@@ -66,15 +70,21 @@ class NodeHarness {
   template <typename Msg>
   struct Sink : SinkBase {
     std::deque<Msg> messages;
-    void OnMessage(const lcm::ReceiveBuffer*, const std::string&, const Msg* m) {
-      messages.push_back(*m);
+    void OnMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+      Msg m;
+      if (!DecodeMessage(rbuf->data, rbuf->data_size, &m)) {
+        ADD_FAILURE() << "the node published a message on " << channel << " that is not a "
+                      << Msg::getTypeName();
+        return;
+      }
+      messages.push_back(std::move(m));
     }
   };
 
-  // memq:// hands a message over in handle(): until nothing is left.
+  // The in-process queue hands messages over one at a time: until nothing is left.
   void Deliver() {
     for (int i = 0; i < 10000; ++i) {
-      if (bus_.management().handleTimeout(0) <= 0) return;
+      if (!bus_.in_process()->DeliverOne()) return;
     }
     ADD_FAILURE() << "the node keeps publishing to itself";
   }
