@@ -41,15 +41,20 @@ LinkContact FindLinkContact(const HandKinematics& kin, int f,
                             double tip_force_n, const Eigen::Vector3d& normal,
                             double threshold_nm, double friction) {
   const std::vector<int>& joints = kin.joint_indices(f);
-  Eigen::Matrix3Xd jac;
-  kin.finger(f).PositionJacobian(kin.FingerJoints(f, q), &jac);
   // In equilibrium the servos' torques balance the contact forces: effort + J^T f = 0 for a
-  // contact on the tip only.
-  Eigen::VectorXd residual = jac.transpose() * (tip_force_n * normal);
+  // contact on the tip only. A tip that feels nothing leaves the efforts alone (no Jacobian).
+  const bool pressed = tip_force_n != 0.0;
+  Eigen::Matrix3Xd jac;
+  Eigen::VectorXd residual = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(joints.size()));
+  if (pressed) {
+    kin.finger(f).PositionJacobian(kin.FingerJoints(f, q), &jac);
+    residual = jac.transpose() * (tip_force_n * normal);
+  }
   for (size_t j = 0; j < joints.size(); ++j) residual[j] += effort[joints[j]];
   LinkContact contact;
   if (residual.cwiseAbs().maxCoeff() <= threshold_nm ||
-      FrictionExplains(jac, normal, residual, tip_force_n, friction, threshold_nm)) {
+      (pressed &&
+       FrictionExplains(jac, normal, residual, tip_force_n, friction, threshold_nm))) {
     return contact;
   }
   // The link: the outermost joint the residual (without friction) is above the threshold at.

@@ -74,10 +74,12 @@ class Node {
                                          const Msg*),
                  Handler* handler) {
     const bool loop = channels::IsLoopChannel(channel);
-    auto decoding = [this, method, handler, loop](const lcm::ReceiveBuffer* rbuf,
-                                                  const std::string& ch) {
+    // Decoded into the same message each time: its arrays keep their capacity (no allocation
+    // a tick). A handler copies what it keeps; it never holds the pointer.
+    auto decoding = [this, method, handler, loop, reused = std::make_shared<Msg>()](
+                        const lcm::ReceiveBuffer* rbuf, const std::string& ch) {
       if (stopping_ && ch != channels::kRecordReceipt) return;  // awaiting receipts only
-      Msg msg;
+      Msg& msg = *reused;
       if (!DecodeMessage(rbuf->data, rbuf->data_size, &msg)) {
         CountUndecodable(ch, Msg::getTypeName(), rbuf->data_size);
         return;
