@@ -19,6 +19,12 @@ find_package(benchmark REQUIRED)
 find_package(Threads REQUIRED)
 # Ceres is for the offline calibration tool only (a TU with Ceres costs ~7 s / 450 MB to compile).
 find_package(Ceres 2.1 REQUIRED)
+# GLPK (libglpk-dev) ships neither a CMake config nor a pkg-config file.
+find_path(GLPK_INCLUDE_DIR glpk.h REQUIRED)
+find_library(GLPK_LIBRARY glpk REQUIRED)
+add_library(GLPK::GLPK UNKNOWN IMPORTED)
+set_target_properties(GLPK::GLPK PROPERTIES IMPORTED_LOCATION ${GLPK_LIBRARY}
+                                            INTERFACE_INCLUDE_DIRECTORIES ${GLPK_INCLUDE_DIR})
 
 find_program(LCM_GEN lcm-gen REQUIRED)
 find_package(Java COMPONENTS Development REQUIRED)
