@@ -6,6 +6,8 @@
 #include <sstream>
 #include <utility>
 
+#include "components/controller/grasp_support.h"
+
 namespace dmpl {
 
 namespace {
@@ -103,6 +105,12 @@ void Gait::Explore(const std::string& finger) {
   board_->SetFinger(f, Role::kExplore, Primitive::kHybrid, &explore_.target,
                     params_.explore_force_n);
   goal_->Send();
+  if (!board_->view.gravity.isZero()) {
+    std::ostringstream note;
+    note << std::fixed << std::setprecision(2) << finger << " explores; the others hold "
+         << SupportWithout(f) << " N against gravity";
+    board_->Note(note.str());
+  }
 }
 
 double Gait::ExploreBack(int f, const Eigen::Vector3d& axis, double sign, bool four) const {
@@ -147,6 +155,21 @@ void Gait::Grip(const std::string& finger) {
   if (LimitDeviation()) ChooseNextExplorer(StepAxis(), StepSize(), -1);
   PreferFingerAtRisk(-1);
 }
+
+double Gait::SupportWithout(int lifted) const {
+  const ControllerView& view = board_->view;
+  std::vector<SupportContact> contacts;
+  for (int k = 0; k < board_->num_fingers(); ++k) {
+    const FingerView& v = view.fingers[k];
+    const Eigen::Vector3d inward = v.contact - v.tip;  // the tip sphere's normal into the object
+    if (k == lifted || !v.in_contact || inward.norm() < 1e-6) continue;
+    contacts.push_back({v.contact, inward.normalized()});
+  }
+  const SupportParams& p = params_.support;
+  return SupportAlong(contacts, view.gravity, view.object.translation(),
+                      {p.friction, 0.0, p.max_push_n});
+}
+
 
 void Gait::PreferFingerAtRisk(int skip) {
   if (params_.max_contact_angle_rad <= 0) return;

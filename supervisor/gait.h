@@ -72,6 +72,9 @@ class Gait : private RegraspActions {
   // params.max_contact_angle_rad: the finger (not `skip`) that touched with a link since it
   // explored, else the one touching furthest beyond the angle, explores next.
   void PreferFingerAtRisk(int skip);
+  // What the fingers in contact but `lifted` could hold along the sensed gravity (N;
+  // SupportAlong within params.support): said when a finger leaves to explore.
+  double SupportWithout(int lifted) const;
   bool LimitDeviation() const {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }

@@ -8,6 +8,21 @@
 
 namespace dmpl {
 
+// task.support: what a grasp is taken to hold against gravity (grasp_support.h): the largest
+// weight the contacts can hold with no net moment about the sensed centre, each pushing at most
+// `max_push_n` and pulling sideways at most `friction` times its push. Said each time a finger
+// leaves to explore (the supervisor's note), so that a drop can be read against it.
+struct SupportParams {
+  double friction = 0.5;    // what the plan relies on: below the objects' usual, above the slick
+  double max_push_n = 2.5;  // a finger's push (controller.grip_adaptation.max_grip_force_n)
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(friction), AboveUpTo(0, 3));
+    a->Visit(DMPL_NVP(max_push_n), Above(0));
+  }
+};
+
 // Section `task`: what to do. The structure is in the task file; these are its numbers, so that
 // `--set task.axis=y` or `--set task.angle=3.14` change an experiment without editing files.
 struct TaskParams {
@@ -49,6 +64,7 @@ struct TaskParams {
   // next; and an explorer's point is moved along the felt surface toward the finger's base
   // until the surface's normal there lies within this of its tip's axis.
   double max_contact_angle_rad = 0.0;
+  SupportParams support;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -70,6 +86,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explore_travel), AtLeast(0));
     a->Visit(DMPL_NVP(max_finger_deviation_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(max_contact_angle_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(support));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations

@@ -63,6 +63,11 @@ ControllerView ToControllerView(const controller_status_t& m,
   view.motion_done = m.motion_done;
   view.grasp_stable = m.grasp_stable;
   view.tracking_error_rad = m.tracking_error_rad;
+  const Eigen::Vector3d gravity = ToVector3(m.gravity);
+  // A direction, or nothing: a message from outside may carry anything.
+  if (gravity.allFinite() && std::abs(gravity.norm() - 1.0) < 0.1) {
+    view.gravity = gravity.normalized();
+  }
   return view;
 }
 

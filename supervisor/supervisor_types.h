@@ -50,6 +50,7 @@ struct ControllerView {
   bool motion_done = false;
   bool grasp_stable = false;
   double tracking_error_rad = 0.0;  // the object estimate against the controller's reference
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // unit, palm frame; zero until sensed
 };
 
 struct SupervisorOutput {

@@ -73,6 +73,7 @@ void FillStatus(const ControllerOutput& out, int64_t tick, int64_t utime,
   s.tracking_error_rad = out.tracking_error_rad;
   s.grip_force_n = out.grip_force_n;
   s.load_scale = out.load_scale;
+  ToArray(out.gravity, s.gravity);
   s.tracking_error_m = out.tracking_error_m;
   ToArray(Eigen::Vector3d(out.object_estimate.translation()), s.object_position);
   ToArray(Eigen::Quaterniond(out.object_estimate.linear()), s.object_orientation);

@@ -97,6 +97,7 @@ struct ControllerOutput {
   Eigen::Vector3d contact_centroid = Eigen::Vector3d::Zero();
   double grip_force_n = 0.0;           // planned per grip finger (GripAdapter)
   double load_scale = 1.0;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // unit, palm frame; zero until sensed
 };
 
 }  // namespace dmpl

@@ -108,10 +108,11 @@ void ManipulationController::UpdateGravity(const SensedInput& in) {
   if (!has_gravity_) {
     gravity_ = down;
     has_gravity_ = true;
-    return;
+  } else {
+    const double a = dt_ / (params_.gravity_time_constant_s + dt_);
+    gravity_ = (gravity_ + a * (down - gravity_)).normalized();
   }
-  const double a = dt_ / (params_.gravity_time_constant_s + dt_);
-  gravity_ = (gravity_ + a * (down - gravity_)).normalized();
+  out_.gravity = gravity_;
 }
 
 void ManipulationController::UpdateObjectEstimate(const SensedInput& in) {

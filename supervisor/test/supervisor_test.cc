@@ -279,6 +279,39 @@ void PlaceTips(Driver* d, double radius) {
   d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
 }
 
+TEST(SupervisorTest, AFingerLeavingToExploreSaysWhatTheOthersHoldAgainstGravity) {
+  // Gravity toward M (+z): M carries the sphere; F and R hold it by friction alone (0.1 here,
+  // 2.5 N a push: 2 * 0.1 * 2.5 = 0.5 N at most) and T pushes the wrong way. Without R the
+  // others hold M's push and more; without M, at most F's and R's friction.
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.angle = 0.35;
+  tp.support.friction = 0.1;
+  Driver d("fig10_gait", tp);
+  PlaceTips(&d, 0.037);
+  const Eigen::Vector3d c = d.view.object.translation();
+  for (auto& f : d.view.fingers) f.contact = c + (f.tip - c) * (0.025 / 0.037);
+  d.view.gravity = Eigen::Vector3d::UnitZ();
+  d.Grasp();
+  auto held = [&](const std::string& finger) {
+    for (int i = 0; i < 200 && d.sup.regrasp().last_action().find(finger + " explore") ==
+                                   std::string::npos; ++i) {
+      for (int f = 0; f < 4; ++f) {
+        if (d.sup.roles()[f] == Role::kExplore) d.Event(EventType::kTargetReached, f);
+      }
+      if (d.sup.regrasp().rotating()) d.Event(EventType::kMotionDone);
+      d.Tick();
+    }
+    const std::string prefix = finger + " explores; the others hold ";
+    EXPECT_EQ(d.sup.note().rfind(prefix, 0), 0u) << d.sup.note();
+    return std::stod(d.sup.note().substr(prefix.size()));
+  };
+  EXPECT_GE(held("R"), 2.5 - 0.005);  // M's push at least
+  const double without_m = held("M");
+  EXPECT_GT(without_m, 0.4);
+  EXPECT_LE(without_m, 0.5 + 0.005);  // printed to the hundredth
+}
+
 // The explorer's target for the first step: `steps` steps back about +x from R's home.
 void ExpectExplorerBack(const std::string& turn, double steps) {
   TaskParams tp;
