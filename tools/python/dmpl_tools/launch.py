@@ -296,6 +296,10 @@ class Launcher:
         if self.stop_requested is None and spec.auto_respawn and proc.restarts < spec.max_restarts:
             delay = min(spec.respawn_delay_s * (2 ** proc.restarts), 8.0)
             proc.restarts += 1
+            # The tick it died at: heartbeats already received but not yet handled count (the
+            # loop can run a second of simulated time between two of them).
+            while self.lc.handle_timeout(0) > 0:
+                pass
             self.restarts.append({"process": spec.name, "tick": self.loop_tick,
                                   "exit": how})
             proc.state = State.RESPAWNING
