@@ -170,7 +170,6 @@ double Gait::SupportWithout(int lifted) const {
                       {p.friction, 0.0, p.max_push_n});
 }
 
-
 void Gait::PreferFingerAtRisk(int skip) {
   if (params_.max_contact_angle_rad <= 0) return;
   int worst = -1;

@@ -9,6 +9,7 @@
 #include "dmpl/controller_status_t.hpp"
 #include "dmpl/task_cmd_t.hpp"
 #include "supervisor/supervisor_node.h"
+#include "supervisor/supervisor_translation.h"
 
 namespace dmpl {
 namespace {
@@ -70,6 +71,22 @@ TEST_F(SupervisorNodeTest, ReportsTheControllerCannotHaveSentAreRefused) {
   EXPECT_EQ(harness_.node().undecodable(), 1);
   harness_.Publish(channels::kControllerReport, Report(10));  // the real one is still answered
   EXPECT_EQ(TaskSeqs(), (std::vector<int64_t>{0, 10}));
+}
+
+// The controller's gravity reaches the supervisor as a unit direction, or not at all: a report
+// from outside may carry zeros, NaN or an acceleration instead.
+TEST(SupervisorTranslationTest, GravityIsADirectionOrNothing) {
+  const std::vector<std::string> fingers = {"T", "F", "M", "R"};
+  auto view_of = [&](double x, double y, double z) {
+    controller_status_t m{};
+    m.object_orientation[0] = 1.0;
+    m.gravity[0] = x, m.gravity[1] = y, m.gravity[2] = z;
+    return ToControllerView(m, fingers).gravity;
+  };
+  EXPECT_TRUE(view_of(0, 0, -1).isApprox(Eigen::Vector3d(0, 0, -1)));
+  EXPECT_TRUE(view_of(0, 0, 0).isZero());
+  EXPECT_TRUE(view_of(0, 0, -9.81).isZero());
+  EXPECT_TRUE(view_of(std::numeric_limits<double>::quiet_NaN(), 0, -1).isZero());
 }
 
 }  // namespace
