@@ -32,12 +32,22 @@ struct ProblemDeleter {
 };
 using Problem = std::unique_ptr<glp_prob, ProblemDeleter>;
 
+// Every contact's cone edges, in the contacts' order.
+std::vector<std::vector<Eigen::Vector3d>> AllConeEdges(const std::vector<SupportContact>& contacts,
+                                                       double friction) {
+  std::vector<std::vector<Eigen::Vector3d>> edges;
+  for (const SupportContact& c : contacts) edges.push_back(ConeEdges(c, friction));
+  return edges;
+}
+
 // Rows 1-3: the contacts' net force; 4-6: their net moment about `centre` over the contacts'
-// mean distance from it (in N, like the forces: the simplex's tolerances are absolute);
-// 6 + i: contact i's push. Columns: contact i's edge j at 1 + i * kConeEdges + j, then `extra` more (left free of
-// coefficients for the caller).
-Problem BuildBalance(const std::vector<SupportContact>& contacts, const Eigen::Vector3d& centre,
-                     const SupportLimits& limits, double min_push, int extra) {
+// mean distance from it (in N, like the forces: the simplex's tolerances are absolute); 7 + i:
+// the push of contact i (from 0). Columns: contact i's edge j at 1 + i * kConeEdges + j, then
+// `extra` more, left without coefficients for the caller.
+Problem BuildBalance(const std::vector<SupportContact>& contacts,
+                     const std::vector<std::vector<Eigen::Vector3d>>& edges,
+                     const Eigen::Vector3d& centre, const SupportLimits& limits, double min_push,
+                     int extra) {
   DMPL_DEMAND(limits.friction > 0 && limits.max_push_n > 0);
   Problem lp(glp_create_prob());
   const int m = static_cast<int>(contacts.size());
@@ -54,13 +64,13 @@ Problem BuildBalance(const std::vector<SupportContact>& contacts, const Eigen::V
   };
   for (int i = 0; i < m; ++i) {
     const Eigen::Vector3d arm = (contacts[i].point - centre) / reach;
-    const std::vector<Eigen::Vector3d> edges = ConeEdges(contacts[i], limits.friction);
     for (int j = 0; j < kConeEdges; ++j) {
       const int col = 1 + i * kConeEdges + j;
+      const Eigen::Vector3d& edge = edges[i][j];
       glp_set_col_bnds(lp.get(), col, GLP_LO, 0.0, 0.0);
-      const Eigen::Vector3d moment = arm.cross(edges[j]);
+      const Eigen::Vector3d moment = arm.cross(edge);
       for (int r = 0; r < 3; ++r) {
-        add(1 + r, col, edges[j][r]);
+        add(1 + r, col, edge[r]);
         add(4 + r, col, moment[r]);
       }
       add(7 + i, col, 1.0);
@@ -89,7 +99,8 @@ SupportPlan PlanSupport(const std::vector<SupportContact>& contacts, const Eigen
                         const Eigen::Vector3d& centre, const SupportLimits& limits) {
   SupportPlan plan;
   if (contacts.empty() || limits.min_push_n > limits.max_push_n) return plan;
-  Problem lp = BuildBalance(contacts, centre, limits, limits.min_push_n, 0);
+  const auto edges = AllConeEdges(contacts, limits.friction);
+  Problem lp = BuildBalance(contacts, edges, centre, limits, limits.min_push_n, 0);
   for (int r = 0; r < 3; ++r) {
     glp_set_row_bnds(lp.get(), 1 + r, GLP_FX, -load[r], -load[r]);
     glp_set_row_bnds(lp.get(), 4 + r, GLP_FX, 0.0, 0.0);
@@ -100,11 +111,10 @@ SupportPlan PlanSupport(const std::vector<SupportContact>& contacts, const Eigen
   if (!Solve(lp.get())) return plan;
   plan.feasible = true;
   for (size_t i = 0; i < contacts.size(); ++i) {
-    const std::vector<Eigen::Vector3d> edges = ConeEdges(contacts[i], limits.friction);
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
     for (int j = 0; j < kConeEdges; ++j) {
       const double w = glp_get_col_prim(lp.get(), 1 + static_cast<int>(i) * kConeEdges + j);
-      f += w * edges[j];
+      f += w * edges[i][j];
       plan.total_push_n += w;
     }
     plan.forces.push_back(f);
@@ -116,7 +126,8 @@ double SupportAlong(const std::vector<SupportContact>& contacts, const Eigen::Ve
                     const Eigen::Vector3d& centre, const SupportLimits& limits) {
   if (contacts.empty() || direction.norm() < 1e-9) return 0.0;
   const Eigen::Vector3d d = direction.normalized();
-  Problem lp = BuildBalance(contacts, centre, limits, 0.0, 1);
+  Problem lp = BuildBalance(contacts, AllConeEdges(contacts, limits.friction), centre, limits,
+                            0.0, 1);
   // The last column is the load L >= 0: the contacts' net force is -L d, their moment zero.
   const int load_col = static_cast<int>(contacts.size()) * kConeEdges + 1;
   glp_set_col_bnds(lp.get(), load_col, GLP_LO, 0.0, 0.0);

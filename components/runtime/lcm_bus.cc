@@ -60,9 +60,11 @@ void LcmBus::Publish(const std::string& channel, const void* data, unsigned size
 
 void LcmBus::SubscribeOn(lcm::LCM* lcm, int id, const std::string& pattern, Handler handler,
                          int queue_capacity) {
-  auto s = std::make_unique<LcmSubscription>(LcmSubscription{id, lcm, nullptr, std::move(handler)});
+  auto s =
+      std::make_unique<LcmSubscription>(LcmSubscription{id, lcm, nullptr, std::move(handler)});
   s->subscription = lcm->subscribe(pattern, &LcmSubscription::On, s.get());
-  DMPL_THROW_UNLESS(s->subscription != nullptr, "LCM refused a subscription to '" << pattern << "'");
+  DMPL_THROW_UNLESS(s->subscription != nullptr,
+                    "LCM refused a subscription to '" << pattern << "'");
   if (queue_capacity > 0) s->subscription->setQueueCapacity(queue_capacity);
   subscriptions_.push_back(std::move(s));
 }

@@ -62,7 +62,8 @@ TEST(GraspSupportTest, ThreeFingersCarryTheWeightAlongAnyGravityWithTheFourthLif
   std::normal_distribution<double> normal;
   int planned = 0, refused = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    const Eigen::Vector3d gravity = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    const Eigen::Vector3d gravity =
+        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
     const auto lifted = static_cast<size_t>(trial % 4);
     const std::vector<SupportContact> three = Without(FourFingerGrasp(), lifted);
     const double support = SupportAlong(three, gravity, Eigen::Vector3d::Zero(), limits);

@@ -248,9 +248,12 @@ class Launcher:
         time.sleep(0.2)  # let the logger subscribe before the first message
 
     # --- the loop ------------------------------------------------------------------------------
-    def _read_ready(self, timeout):
+    def _handle_pending_messages(self):
         while self.lc.handle_timeout(0) > 0:
             pass
+
+    def _read_ready(self, timeout):
+        self._handle_pending_messages()
         for key, _ in self.selector.select(timeout):
             proc = key.data
             try:
@@ -298,8 +301,7 @@ class Launcher:
             proc.restarts += 1
             # The tick it died at: heartbeats already received but not yet handled count (the
             # loop can run a second of simulated time between two of them).
-            while self.lc.handle_timeout(0) > 0:
-                pass
+            self._handle_pending_messages()
             self.restarts.append({"process": spec.name, "tick": self.loop_tick,
                                   "exit": how})
             proc.state = State.RESPAWNING
