@@ -65,12 +65,13 @@ int main(int argc, char** argv) {
         "\"tips_in_contact\": %d, \"object_moved_m\": %.6g, \"mujoco\": {\"cone\": \"%s\", "
         "\"impratio\": %.17g, \"solref\": [%.17g, %.17g], \"solimp\": [%.17g, %.17g, %.17g], "
         "\"joint_damping\": %.17g, \"iterations\": %d, \"noslip_iterations\": %d, "
-        "\"torsional_friction\": %.17g, \"rolling_friction\": %.17g, \"condim\": %d}}\n",
+        "\"torsional_friction\": %.17g, \"rolling_friction\": %.17g, \"condim\": %d, "
+        "\"collision\": \"%s\"}}\n",
         sim_params.engine.c_str(), us[steps / 2], us[steps * 9 / 10], steps, contacts,
         (sim.object().pose.translation() - start).norm(), mj.cone.c_str(), mj.impratio,
         mj.solref[0], mj.solref[1], mj.solimp[0], mj.solimp[1], mj.solimp[2], mj.joint_damping,
         mj.iterations, mj.noslip_iterations, mj.torsional_friction, mj.rolling_friction,
-        mj.contact_dimension());
+        mj.contact_dimension(), mj.collision.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dmpl_bench_sim: %s\n", e.what());
     return 2;

@@ -108,6 +108,9 @@ void SimParams::Validate(const std::string& source) const {
   if (mujoco.cone != "pyramidal" && mujoco.cone != "elliptic") {
     fail("mujoco.cone", "'" + mujoco.cone + "' is not pyramidal or elliptic");
   }
+  if (mujoco.collision != "dynamic" && mujoco.collision != "predefined") {
+    fail("mujoco.collision", "'" + mujoco.collision + "' is not dynamic or predefined");
+  }
   if (!(mujoco.solref[0] > 0) || !(mujoco.solref[1] > 0)) {
     fail("mujoco.solref", "time constant and damping ratio must be > 0");
   }

@@ -88,6 +88,98 @@ void InsertBefore(std::string* text, const std::string& anchor, const std::strin
   text->insert(at, what);
 }
 
+// Every unnamed geom of the scene's bodies named (dmpl_geom_<k>): a predefined pair names its
+// two geoms, and the URDF importer names none.
+void NameGeoms(std::string* xml) {
+  int k = 0;
+  for (size_t at = xml->find("<geom ", xml->find("<worldbody>")); at != std::string::npos;
+       at = xml->find("<geom ", at + 1)) {
+    const size_t end = xml->find('>', at);
+    DMPL_DEMAND(end != std::string::npos);
+    if (xml->substr(at, end - at).find(" name=\"") == std::string::npos) {
+      xml->insert(at + 6, "name=\"dmpl_geom_" + std::to_string(k) + "\" ");
+    }
+    ++k;
+  }
+}
+
+// MuJoCo's own test (engine_collision_driver.c, mj_contactFilter) of whether two geoms may
+// touch: a matching contype/conaffinity, different welded bodies, neither welded to the
+// other's parent (unless one is welded to the world), and not excluded.
+bool MayTouch(const mjModel* m, int g1, int g2) {
+  if (!(m->geom_contype[g1] & m->geom_conaffinity[g2]) &&
+      !(m->geom_contype[g2] & m->geom_conaffinity[g1])) {
+    return false;
+  }
+  const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+  const int w1 = m->body_weldid[b1], w2 = m->body_weldid[b2];
+  if (w1 == w2) return false;
+  const int p1 = m->body_weldid[m->body_parentid[w1]], p2 = m->body_weldid[m->body_parentid[w2]];
+  const bool filter_parent = !(m->opt.disableflags & mjDSBL_FILTERPARENT) && w1 && w2;
+  if (filter_parent && (w1 == p2 || w2 == p1)) return false;
+  const int signature = ((std::min(b1, b2) + 1) << 16) + std::max(b1, b2) + 1;
+  for (int e = 0; e < m->nexclude; ++e) {
+    if (m->exclude_signature[e] == signature) return false;
+  }
+  return true;
+}
+
+// The <pair> elements of every two geoms that may touch, each with the parameters MuJoCo gives
+// a dynamic contact of the two (mj_collideGeoms): the higher priority's condim, friction,
+// solref and solimp, or at equal priority the larger condim and friction and solref and solimp
+// mixed by solmix; margin and gap the larger.
+std::string PredefinedPairs(const mjModel* m) {
+  std::string pairs;
+  for (int g1 = 0; g1 < m->ngeom; ++g1) {
+    for (int g2 = 0; g2 < m->ngeom; ++g2) {
+      // Each unordered pair once, the geom of the lower body first (as the broad phase pairs them).
+      const int b1 = m->geom_bodyid[g1], b2 = m->geom_bodyid[g2];
+      if (b1 > b2 || (b1 == b2 && g1 >= g2) || !MayTouch(m, g1, g2)) continue;
+      int condim;
+      double friction[3], solref[mjNREF], solimp[mjNIMP];
+      if (m->geom_priority[g1] != m->geom_priority[g2]) {
+        const int g = m->geom_priority[g1] > m->geom_priority[g2] ? g1 : g2;
+        condim = m->geom_condim[g];
+        for (int i = 0; i < 3; ++i) friction[i] = m->geom_friction[3 * g + i];
+        for (int i = 0; i < mjNREF; ++i) solref[i] = m->geom_solref[mjNREF * g + i];
+        for (int i = 0; i < mjNIMP; ++i) solimp[i] = m->geom_solimp[mjNIMP * g + i];
+      } else {
+        condim = std::max(m->geom_condim[g1], m->geom_condim[g2]);
+        for (int i = 0; i < 3; ++i) {
+          friction[i] = std::max(m->geom_friction[3 * g1 + i], m->geom_friction[3 * g2 + i]);
+        }
+        const double s1 = m->geom_solmix[g1], s2 = m->geom_solmix[g2];
+        double mix = s1 / (s1 + s2);
+        if (s1 < mjMINVAL || s2 < mjMINVAL) {
+          mix = s1 < mjMINVAL ? (s2 < mjMINVAL ? 0.5 : 0.0) : 1.0;
+        }
+        const bool standard =
+            m->geom_solref[mjNREF * g1] > 0 && m->geom_solref[mjNREF * g2] > 0;
+        for (int i = 0; i < mjNREF; ++i) {
+          const double r1 = m->geom_solref[mjNREF * g1 + i], r2 = m->geom_solref[mjNREF * g2 + i];
+          solref[i] = standard ? mix * r1 + (1 - mix) * r2 : std::min(r1, r2);
+        }
+        for (int i = 0; i < mjNIMP; ++i) {
+          solimp[i] = mix * m->geom_solimp[mjNIMP * g1 + i] +
+                      (1 - mix) * m->geom_solimp[mjNIMP * g2 + i];
+        }
+      }
+      std::string refs, imps;
+      for (int i = 0; i < mjNREF; ++i) refs += (i ? " " : "") + Num(solref[i]);
+      for (int i = 0; i < mjNIMP; ++i) imps += (i ? " " : "") + Num(solimp[i]);
+      pairs += std::string("<pair geom1=\"") + mj_id2name(m, mjOBJ_GEOM, g1) + "\" geom2=\"" +
+               mj_id2name(m, mjOBJ_GEOM, g2) + "\" condim=\"" + std::to_string(condim) +
+               "\" friction=\"" +
+               Num(friction[0]) + " " + Num(friction[0]) + " " + Num(friction[1]) + " " +
+               Num(friction[2]) + " " + Num(friction[2]) + "\" solref=\"" + refs +
+               "\" solimp=\"" + imps + "\" margin=\"" +
+               Num(std::max(m->geom_margin[g1], m->geom_margin[g2])) + "\" gap=\"" +
+               Num(std::max(m->geom_gap[g1], m->geom_gap[g2])) + "\"/>";
+    }
+  }
+  return pairs;
+}
+
 // The object's geom (and, for a hull, its mesh asset), in its principal frame.
 std::string ObjectGeom(const ObjectParams& o, const ObjectBody& body, std::string* asset) {
   const auto f = Num;
@@ -369,11 +461,22 @@ mjModel* MujocoEngine::Compile(const EngineScene& scene) {
       exclude += "<exclude body1=\"" + links[a].name + "\" body2=\"" + links[b].name + "\"/>";
     }
   }
-  if (!exclude.empty()) InsertAfter(&xml, "</worldbody>", "\n  <contact>" + exclude + "</contact>");
-  WriteText(dir.path() / "scene.xml", xml);
-  mjModel* m = mj_loadXML((dir.path() / "scene.xml").c_str(), nullptr, error, sizeof error);
-  if (m == nullptr) throw ConfigError(at + "could not compile the scene: " + error);
-  return m;
+  InsertAfter(&xml, "</worldbody>", "\n  <contact>" + exclude + "</contact>");
+  NameGeoms(&xml);
+  auto compile = [&] {
+    WriteText(dir.path() / "scene.xml", xml);
+    mjModel* m = mj_loadXML((dir.path() / "scene.xml").c_str(), nullptr, error, sizeof error);
+    if (m == nullptr) throw ConfigError(at + "could not compile the scene: " + error);
+    return m;
+  };
+  mjModel* m = compile();
+  if (mj.collision == "dynamic") return m;
+  // 3. The pairs the broad phase could find, listed once; the model compiled again with them.
+  const std::string pairs = PredefinedPairs(m);
+  mj_deleteModel(m);
+  InsertBefore(&xml, "</contact>", pairs);
+  InsertAfter(&xml, "<option ", "collision=\"predefined\" ");
+  return compile();
 }
 
 void MujocoEngine::FindIndices(const EngineScene& scene) {

@@ -84,6 +84,14 @@ struct MujocoParams {
   // (0.07 mm while the contacts also resisted spin and roll). Stiffer still (solimp 0.99/0.999)
   // the gait lost its contacts (about y 0 of 4 seeds).
   std::string cone = "elliptic";      // pyramidal or elliptic
+  // Which pairs of geoms are tested for contact each step. `dynamic`: MuJoCo's broad phase
+  // (bounding boxes of every body, sorted along their principal axis) finds them; `predefined`:
+  // the compiler lists once every pair the broad phase could pass (what its filters allow:
+  // contype/conaffinity, welded bodies, parents, exclusions), with the contact parameters the
+  // dynamic pairs would get, and each step tests them by their bounding spheres only. The same
+  // contacts in the same order, so the same run bit for bit; in a hand of 21 bodies a faster
+  // step (docs/benchmarks.md).
+  std::string collision = "predefined";  // dynamic or predefined
   int iterations = 100;               // constraint solver (Newton)
   int noslip_iterations = 0;
   double impratio = 300.0;            // frictional-to-normal impedance ratio
@@ -116,6 +124,7 @@ struct MujocoParams {
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(joint_damping), AtLeast(0));
     a->Visit(DMPL_NVP(cone));
+    a->Visit(DMPL_NVP(collision));
     a->Visit(DMPL_NVP(iterations), AtLeast(1));
     a->Visit(DMPL_NVP(noslip_iterations), AtLeast(0));
     a->Visit(DMPL_NVP(impratio), AtLeast(1));
