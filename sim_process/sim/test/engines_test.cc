@@ -177,44 +177,78 @@ INSTANTIATE_TEST_SUITE_P(BothEngines, EnginesTest, ::testing::Values("bullet", "
 
 // MuJoCo's contact pairs listed once at compile time (sim.mujoco.collision: predefined) give the
 // run its broad phase gives, bit for bit: the same contacts, with the same parameters, in the
-// same order. The grip eases after the release: the sphere slides out through the fingers, the
-// box settles on the tips.
+// same order. Every kind of pair is exercised: the grip eases after the release and the sphere
+// slides out past the fingers' links, the box settles on the tips, and fingers swung into each
+// other meet (their joints end elsewhere than without self-collision).
+struct MujocoRun {
+  Eigen::Isometry3d object;
+  std::vector<double> joints;
+  int tip_touches = 0;   // tip readings in contact, summed over the ticks
+  int link_touches = 0;  // ticks a finger's other links pushed on the object
+};
+
+MujocoRun RunMujoco(const HandModel& model, const ObjectParams& object, const char* collision,
+                    const std::vector<double>& targets, bool self_collision = true) {
+  SimParams sim = testing::StaticGraspSim();
+  sim.engine = "mujoco";
+  sim.mujoco.collision = collision;
+  sim.physics.self_collision = self_collision;
+  HandSim hand(model, sim, object);  // keeps the model by reference
+  std::string why;
+  hand.SetJointTargets(testing::SqueezeTargets(), &why);
+  for (int i = 0; i < 200; ++i) hand.Step();
+  hand.ReleaseObject();
+  EXPECT_TRUE(hand.SetJointTargets(targets, &why)) << why;
+  MujocoRun run;
+  for (int i = 0; i < 400; ++i) {
+    hand.Step();
+    for (const TipState& t : hand.tactile()) {
+      run.tip_touches += t.in_contact;
+      run.link_touches += t.link_force > 0;
+    }
+  }
+  run.object = hand.object().pose;
+  run.joints = hand.joints().position;
+  return run;
+}
+
+void ExpectSameRun(const MujocoRun& a, const MujocoRun& b, const std::string& what) {
+  EXPECT_EQ(a.object.translation(), b.object.translation()) << what;
+  EXPECT_TRUE(a.object.linear() == b.object.linear()) << what;
+  EXPECT_EQ(a.joints, b.joints) << what;
+  EXPECT_EQ(a.tip_touches, b.tip_touches) << what;
+  EXPECT_EQ(a.link_touches, b.link_touches) << what;
+}
+
 TEST(MujocoCollisionTest, PredefinedPairsGiveTheBroadPhasesRunBitForBit) {
   const HandModel model = LoadHand();
   ObjectParams object;
   object.position = {0.09, 0.0, 0.02};
-  for (const char* shape : {"sphere", "box"}) {
-    object.shape = shape;
-    auto run = [&](const char* collision) {
-      SimParams sim = testing::StaticGraspSim();
-      sim.engine = "mujoco";
-      sim.mujoco.collision = collision;
-      HandSim hand(model, sim, object);
-      std::string why;
-      hand.SetJointTargets(testing::SqueezeTargets(), &why);
-      for (int i = 0; i < 200; ++i) hand.Step();
-      hand.ReleaseObject();
-      std::vector<double> open = testing::SqueezeTargets();
-      for (double& q : open) q *= 0.97;  // the grip eases: the object slides through the tips
-      hand.SetJointTargets(open, &why);
-      int touching = 0;
-      for (int i = 0; i < 400; ++i) {
-        hand.Step();
-        for (const TipState& t : hand.tactile()) touching += t.in_contact;
-      }
-      return std::make_tuple(hand.object().pose, hand.joints().position, touching);
-    };
-    const auto dynamic = run("dynamic"), predefined = run("predefined");
-    // Tip readings summed over the ticks: the sphere slides out past the fingers' links (it
-    // falls ~5 cm), the box stays on the tips (4 x 400 possible).
-    EXPECT_GT(std::get<2>(dynamic), 100) << shape << ": the tips touched it";
-    std::printf("%s: %d tip contacts over 0.4 s, fell %.1f mm\n", shape, std::get<2>(dynamic),
-                (object.position[0] - std::get<0>(dynamic).translation().x()) * 1e3);
-    EXPECT_EQ(std::get<0>(dynamic).translation(), std::get<0>(predefined).translation()) << shape;
-    EXPECT_TRUE(std::get<0>(dynamic).linear() == std::get<0>(predefined).linear()) << shape;
-    EXPECT_EQ(std::get<1>(dynamic), std::get<1>(predefined)) << shape;
-    EXPECT_EQ(std::get<2>(dynamic), std::get<2>(predefined)) << shape;
-  }
+  // The grip eased by 3 %: the sphere slides out past the links, the box stays on the tips.
+  std::vector<double> eased = testing::SqueezeTargets();
+  for (double& q : eased) q *= 0.97;
+  const MujocoRun sphere = RunMujoco(model, object, "dynamic", eased);
+  EXPECT_GT(sphere.tip_touches, 100);
+  EXPECT_GT(sphere.link_touches, 0) << "the sphere passed the links without touching them";
+  ExpectSameRun(sphere, RunMujoco(model, object, "predefined", eased), "sphere");
+  object.shape = "box";
+  const MujocoRun box = RunMujoco(model, object, "dynamic", eased);
+  EXPECT_GT(box.tip_touches, 1000) << "4 tips x 400 ticks possible";
+  ExpectSameRun(box, RunMujoco(model, object, "predefined", eased), "box");
+  // No object within reach; the fore and ring fingers swung into the middle finger (their first
+  // joints to 0.45 of their 0.47 rad range, toward it).
+  object.position = {0.3, 0.5, 0.5};
+  std::vector<double> crossed = testing::SqueezeTargets();
+  const std::vector<std::string> joints = model.actuated_names();
+  auto index = [&](const std::string& name) {
+    return std::find(joints.begin(), joints.end(), name) - joints.begin();
+  };
+  crossed.at(index("F_j0")) = -0.45;
+  crossed.at(index("R_j0")) = 0.45;
+  const MujocoRun closed = RunMujoco(model, object, "dynamic", crossed);
+  EXPECT_NE(closed.joints, RunMujoco(model, object, "dynamic", crossed, false).joints)
+      << "the fingers never met";
+  ExpectSameRun(closed, RunMujoco(model, object, "predefined", crossed), "fingers crossed");
 }
 
 // The config error a simulator built from these parameters (read from "run.yaml") raises; empty
