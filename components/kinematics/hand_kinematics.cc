@@ -60,6 +60,25 @@ void FingerKinematics::TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis,
   *omega = jac_kdl_.data.bottomRows<3>();
 }
 
+void FingerKinematics::LinkFrames(const Eigen::VectorXd& q,
+                                  std::vector<Eigen::Isometry3d>* frames) const {
+  DMPL_DEMAND(q.size() == num_joints());
+  frames->resize(num_links());
+  KDL::Frame frame = KDL::Frame::Identity();
+  int j = 0;
+  for (int k = 0; k < num_links(); ++k) {
+    const KDL::Segment& segment = chain_->getSegment(k);
+    const bool moves = segment.getJoint().getType() != KDL::Joint::None;
+    frame = frame * segment.pose(moves ? q[j++] : 0.0);
+    Eigen::Isometry3d& out = (*frames)[k];
+    out.setIdentity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) out.linear()(r, c) = frame.M(r, c);
+      out.translation()[r] = frame.p[r];
+    }
+  }
+}
+
 HandKinematics::HandKinematics(const HandModel& model) {
   const KDL::Tree tree = UrdfToKdlTree(model);
   const std::string& root = model.links()[0].name;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
@@ -36,6 +37,11 @@ class FingerKinematics {
   void TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis, Eigen::Matrix3Xd* omega) const;
   // The link that joint j (0: the base) moves, as the URDF names it.
   const std::string& LinkAfterJoint(int j) const { return links_after_joints_[j]; }
+  // Every link of the chain (the palm's child first, the tip last) and its frame in the palm
+  // frame at `q`, as KDL's forward kinematics composes them.
+  int num_links() const { return static_cast<int>(chain_->getNrOfSegments()); }
+  const std::string& LinkName(int k) const { return chain_->getSegment(k).getName(); }
+  void LinkFrames(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>* frames) const;
 
  private:
   std::string name_;

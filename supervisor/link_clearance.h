@@ -1,0 +1,24 @@
+#pragma once
+// How far a finger's link stands off the object as touch has taught its surface: the check a
+// placement needs so that a finger meets the object with its tip, not its links (issue 28).
+// Pure: the links from the hand's kinematics (finger_links.h), the surface from the fingertips'
+// contacts (surface_model.h); nothing of the object's true shape.
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "components/kinematics/finger_links.h"
+#include "supervisor/surface_model.h"
+
+namespace dmpl {
+
+// The clearance of `capsule` (palm frame) from the felt surface, m (negative: it reaches into
+// the object by that much), with `object` the object's pose estimate. Taken at points along the
+// capsule's axis: each point's distance from the surface in its direction from the centre,
+// measured along the surface's normal there (exact for a face, and for a sphere about its
+// centre), less the radius; the least of them. Only points in directions the model knows
+// count; nothing when it knows none of them.
+std::optional<double> SurfaceClearance(const LinkCapsule& capsule, const SurfaceModel& surface,
+                                       const Eigen::Isometry3d& object);
+
+}  // namespace dmpl
