@@ -10,6 +10,7 @@ include(GNUInstallDirs)
 set(DMPL_INSTALLED_EXECUTABLES
   dmpl_sim dmpl_noise dmpl_joint_player dmpl_ik dmpl_controller dmpl_supervisor
   dmpl_oneprocess dmpl_record dmpl_logcols dmpl_calibrate dmpl_hand_geometry dmpl_surface
+  dmpl_link_clearance
   dmpl_bench_sim dmpl_bench_ik dmpl_bench_lcm_hop dmpl_channels_py dmpl_config)
 set(DMPL_INSTALLED_LIBRARIES
   dmpl_runtime dmpl_logging dmpl_hand dmpl_kinematics dmpl_ik_core dmpl_ik_node

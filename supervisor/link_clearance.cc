@@ -5,7 +5,6 @@
 namespace dmpl {
 
 namespace {
-constexpr int kPointsAlongAxis = 5;
 // Nearer the centre than this a point's direction says nothing (no link gets there anyway).
 constexpr double kNearCentreM = 1e-3;
 // A face seen this obliquely from the centre (its normal near 90 deg off the direction) is
@@ -13,19 +12,18 @@ constexpr double kNearCentreM = 1e-3;
 constexpr double kMinCosine = 0.1;
 }  // namespace
 
-std::optional<double> SurfaceClearance(const LinkCapsule& capsule, const SurfaceModel& surface,
+std::optional<double> SurfaceClearance(const LinkSolid& solid, const SurfaceModel& surface,
                                        const Eigen::Isometry3d& object) {
+  const Eigen::Isometry3d to_object = object.inverse();
   std::optional<double> least;
-  for (int i = 0; i < kPointsAlongAxis; ++i) {
-    const double t = static_cast<double>(i) / (kPointsAlongAxis - 1);
-    const Eigen::Vector3d p = object.inverse() * (capsule.a + t * (capsule.b - capsule.a));
+  for (const Eigen::Vector3d& point : solid.points) {
+    const Eigen::Vector3d p = to_object * point;
     const double r = p.norm();
     if (r < kNearCentreM) continue;
     const Eigen::Vector3d d = p / r;
     const SurfacePoint s = surface.Along(d);
     if (!s.known) continue;
-    const double gap = (r - s.distance_m) * std::max(d.dot(s.normal), kMinCosine) -
-                       capsule.radius;
+    const double gap = (r - s.distance_m) * std::max(d.dot(s.normal), kMinCosine) - solid.radius;
     least = least ? std::min(*least, gap) : gap;
   }
   return least;

@@ -12,13 +12,13 @@
 
 namespace dmpl {
 
-// The clearance of `capsule` (palm frame) from the felt surface, m (negative: it reaches into
-// the object by that much), with `object` the object's pose estimate. Taken at points along the
-// capsule's axis: each point's distance from the surface in its direction from the centre,
-// measured along the surface's normal there (exact for a face, and for a sphere about its
-// centre), less the radius; the least of them. Only points in directions the model knows
-// count; nothing when it knows none of them.
-std::optional<double> SurfaceClearance(const LinkCapsule& capsule, const SurfaceModel& surface,
+// The clearance of `solid` (palm frame) from the felt surface, m (negative: it reaches into
+// the object by that much), with `object` the object's pose estimate: of each of its points, the
+// distance from the surface in the point's direction from the centre, measured along the
+// surface's normal there (exact for a face, and for a sphere about its centre), less the solid's
+// radius; the least of them. Only points in directions the model knows count; nothing when it
+// knows none of them.
+std::optional<double> SurfaceClearance(const LinkSolid& solid, const SurfaceModel& surface,
                                        const Eigen::Isometry3d& object);
 
 }  // namespace dmpl

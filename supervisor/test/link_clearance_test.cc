@@ -33,17 +33,17 @@ SurfaceModel FeltSphere(const Eigen::Isometry3d& pose, double min_x = -1.0) {
   return model;
 }
 
-// A capsule of radius `radius` (object frame, then placed with `pose`) whose axis passes
-// `closest` m from the centre at its middle, perpendicular to the direction to it, 3 cm long.
-LinkCapsule Across(const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
-                   double closest, double radius) {
+// A link (points every 1 mm along a 3 cm segment, and `radius`: a row of spheres) whose axis
+// passes `closest` m from the centre at its middle, perpendicular to the direction to it (object
+// frame, then placed with `pose`).
+LinkSolid Across(const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction, double closest,
+                 double radius) {
   const Eigen::Vector3d d = direction.normalized();
   const Eigen::Vector3d along = d.unitOrthogonal();
-  LinkCapsule c;
-  c.a = pose * (closest * d - 0.015 * along);
-  c.b = pose * (closest * d + 0.015 * along);
-  c.radius = radius;
-  return c;
+  LinkSolid link;
+  for (int i = -15; i <= 15; ++i) link.points.push_back(pose * (closest * d + 0.001 * i * along));
+  link.radius = radius;
+  return link;
 }
 
 TEST(LinkClearanceTest, ALinkBesideAFeltSphereAndOneThatReachesIntoIt) {
@@ -81,9 +81,10 @@ TEST(LinkClearanceTest, ALinkAlongAFeltFaceStandsItsDistanceFromThePlane) {
                pose.linear() * Eigen::Vector3d::UnitX(), 0.0);
     }
   }
-  LinkCapsule link;
-  link.a = pose * Eigen::Vector3d(0.035, 0.005, 0.0);
-  link.b = pose * Eigen::Vector3d(0.035, 0.02, 0.0);
+  LinkSolid link;
+  for (double y = 0.005; y <= 0.02 + 1e-9; y += 0.005) {
+    link.points.push_back(pose * Eigen::Vector3d(0.035, y, 0.0));
+  }
   link.radius = 0.003;
   const auto clearance = SurfaceClearance(link, face, pose);
   ASSERT_TRUE(clearance.has_value());

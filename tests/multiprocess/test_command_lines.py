@@ -34,6 +34,8 @@ EXECUTABLES = {
     "dmpl_hand_geometry": (["--config"], [], ["--config"], "--config"),
     "dmpl_surface": (["LOG", "--directions"], ["run.lcmlog"], ["--directions", "0"],
                      "--directions"),
+    "dmpl_link_clearance": (["LOG", "--config", "--every"], ["run.lcmlog", "--config", CONFIG],
+                            ["--every", "0"], "--every"),
     "dmpl_bench_sim": (["--config", "--engine", "--warmup", "--steps"], [], ["--steps", "x"], "--steps"),
     "dmpl_bench_ik": (["--percentiles"], [], ["--percentiles=0"], "--percentiles"),
     "dmpl_bench_lcm_hop": (["echo", "ping"], ["ping"], ["ping", "--bytes", "many"], "--bytes"),

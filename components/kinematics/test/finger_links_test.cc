@@ -1,5 +1,5 @@
-// A finger's links as capsules: each encloses its collision shape, follows its joints, and the
-// last is the fingertip where forward kinematics puts it.
+// A finger's links as solids: points on each collision shape's surface (a sphere: its centre
+// and radius), following their joints, the last the fingertip where forward kinematics puts it.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -12,14 +12,6 @@ namespace {
 
 using testing::LoadHand;
 
-double DistanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                         const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
-                                        : 0.0;
-  return (p - (a + t * ab)).norm();
-}
-
 Eigen::Isometry3d SomeOrigin() {
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
   origin.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
@@ -27,47 +19,60 @@ Eigen::Isometry3d SomeOrigin() {
   return origin;
 }
 
-TEST(EnclosingCapsuleTest, ABoxsCornersLieOnOrInsideItsCapsule) {
+// Every point lies on one of the box's faces; its corners are among them; no point is farther
+// than the spacing from another (no face left bare).
+TEST(LinkSolidTest, ABoxIsPointsOnItsFacesNoFurtherApartThanTheSpacing) {
   CollisionShape box;
   box.kind = CollisionShape::Kind::kBox;
-  box.box_size = Eigen::Vector3d(0.012, 0.04, 0.009);  // longest along y
+  box.box_size = Eigen::Vector3d(0.0275, 0.0196, 0.054);  // a finger's middle link
   box.origin = SomeOrigin();
-  const LinkCapsule c = EnclosingCapsule(box);
-  EXPECT_NEAR((c.b - c.a).norm(), 0.04, 1e-12);
-  EXPECT_NEAR(c.radius, 0.5 * std::hypot(0.012, 0.009), 1e-12);
-  double worst = -1.0;
-  for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector3d corner((i & 1 ? 0.5 : -0.5) * 0.012, (i & 2 ? 0.5 : -0.5) * 0.04,
-                                 (i & 4 ? 0.5 : -0.5) * 0.009);
-    worst = std::max(worst, DistanceToSegment(box.origin * corner, c.a, c.b) - c.radius);
+  const LinkSolid s = SolidOf(box);
+  EXPECT_EQ(s.radius, 0.0);
+  const Eigen::Vector3d half = box.box_size / 2;
+  int corners = 0;
+  for (const Eigen::Vector3d& p : s.points) {
+    const Eigen::Vector3d local = box.origin.inverse() * p;
+    const Eigen::Vector3d ratio = local.cwiseAbs().cwiseQuotient(half);
+    EXPECT_LT(ratio.maxCoeff(), 1 + 1e-9);
+    EXPECT_GT(ratio.maxCoeff(), 1 - 1e-9) << "a point inside the box";
+    corners += (ratio.array() > 1 - 1e-9).all();
+    double nearest = 1.0;
+    for (const Eigen::Vector3d& q : s.points) {
+      if (&q != &p) nearest = std::min(nearest, (q - p).norm());
+    }
+    EXPECT_LE(nearest, kLinkPointSpacingM + 1e-12);
   }
-  EXPECT_LT(worst, 1e-12);
-  EXPECT_GT(worst, -1e-12) << "the corners touch it: the tightest capsule along that edge";
+  EXPECT_EQ(corners, 8);
 }
 
-TEST(EnclosingCapsuleTest, ACylinderRunsAlongItsAxisAndASphereIsAPoint) {
+TEST(LinkSolidTest, ACylindersPointsLieOnItsMantleOrEndsAndASphereIsItsCentre) {
   CollisionShape cylinder;
   cylinder.kind = CollisionShape::Kind::kCylinder;
   cylinder.radius = 0.008;
   cylinder.length = 0.03;
   cylinder.origin = SomeOrigin();
-  const LinkCapsule c = EnclosingCapsule(cylinder);
-  EXPECT_TRUE(c.a.isApprox(cylinder.origin * Eigen::Vector3d(0, 0, -0.015), 1e-12));
-  EXPECT_TRUE(c.b.isApprox(cylinder.origin * Eigen::Vector3d(0, 0, 0.015), 1e-12));
-  EXPECT_EQ(c.radius, 0.008);
+  const LinkSolid c = SolidOf(cylinder);
+  ASSERT_GT(c.points.size(), 16u);
+  for (const Eigen::Vector3d& p : c.points) {
+    const Eigen::Vector3d local = cylinder.origin.inverse() * p;
+    const double r = std::hypot(local.x(), local.y());
+    const bool mantle = std::abs(r - 0.008) < 1e-9 && std::abs(local.z()) < 0.015 + 1e-9;
+    const bool end = std::abs(std::abs(local.z()) - 0.015) < 1e-9 && r < 0.008 + 1e-9;
+    EXPECT_TRUE(mantle || end) << local.transpose();
+  }
   CollisionShape sphere;
   sphere.kind = CollisionShape::Kind::kSphere;
   sphere.radius = 0.01;
   sphere.origin = SomeOrigin();
-  const LinkCapsule s = EnclosingCapsule(sphere);
-  EXPECT_EQ(s.a, s.b);
-  EXPECT_TRUE(s.a.isApprox(sphere.origin.translation(), 1e-15));
+  const LinkSolid s = SolidOf(sphere);
+  ASSERT_EQ(s.points.size(), 1u);
+  EXPECT_TRUE(s.points[0].isApprox(sphere.origin.translation(), 1e-15));
   EXPECT_EQ(s.radius, 0.01);
 }
 
-// The last capsule is the fingertip sphere where the tip's forward kinematics is; turning joint
-// j moves the capsules of the links it carries and no other.
-TEST(FingerLinksTest, CapsulesFollowTheirJointsAndEndAtTheTip) {
+// The last solid is the fingertip sphere where the tip's forward kinematics is; turning joint
+// j moves the solids of the links it carries and no other.
+TEST(FingerLinksTest, SolidsFollowTheirJointsAndEndAtTheTip) {
   const HandModel model = LoadHand();
   const HandKinematics kin(model);
   std::mt19937 rng(5);
@@ -78,26 +83,28 @@ TEST(FingerLinksTest, CapsulesFollowTheirJointsAndEndAtTheTip) {
     for (int k = 0; k < q.size(); ++k) {
       q[k] = std::uniform_real_distribution<double>(finger.lower()[k], finger.upper()[k])(rng);
     }
-    const std::vector<LinkCapsule> at_q = links.Capsules(q);
+    const std::vector<LinkSolid> at_q = links.Solids(q);
     ASSERT_FALSE(at_q.empty());
-    const LinkCapsule& tip = at_q.back();
+    const LinkSolid& tip = at_q.back();
     EXPECT_TRUE(tip.tip);
-    EXPECT_LT((tip.a - finger.TipPosition(q)).norm(), 1e-12) << finger.name();
+    ASSERT_EQ(tip.points.size(), 1u);
+    EXPECT_LT((tip.points[0] - finger.TipPosition(q)).norm(), 1e-12) << finger.name();
     EXPECT_NEAR(tip.radius, model.tip_radius(), 1e-12) << finger.name();
     for (int j = 0; j < finger.num_joints(); ++j) {
       Eigen::VectorXd turned = q;
       turned[j] += 0.1;
-      const std::vector<LinkCapsule> after = links.Capsules(turned);
+      const std::vector<LinkSolid> after = links.Solids(turned);
       bool carried = false;  // from the link joint j moves on, every link rides on it
       for (size_t i = 0; i < at_q.size(); ++i) {
         carried = carried || at_q[i].link == finger.LinkAfterJoint(j);
-        if (carried) continue;
-        EXPECT_EQ(after[i].a, at_q[i].a) << finger.name() << " joint " << j << " moved "
-                                         << at_q[i].link;
-        EXPECT_EQ(after[i].b, at_q[i].b) << finger.name() << " joint " << j;
+        if (!carried) {
+          EXPECT_EQ(after[i].points, at_q[i].points) << finger.name() << " joint " << j
+                                                     << " moved " << at_q[i].link;
+        }
       }
-      EXPECT_TRUE(carried) << finger.name() << ": no capsule on " << finger.LinkAfterJoint(j);
-      EXPECT_GT((after.back().a - tip.a).norm(), 1e-3) << finger.name() << " joint " << j;
+      EXPECT_TRUE(carried) << finger.name() << ": no solid on " << finger.LinkAfterJoint(j);
+      EXPECT_GT((after.back().points[0] - tip.points[0]).norm(), 1e-3)
+          << finger.name() << " joint " << j;
     }
   }
 }
