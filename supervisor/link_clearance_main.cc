@@ -4,7 +4,10 @@
 // the supervisor had felt so far (its own Blackboard::LearnSurface, as dmpl_surface) at the
 // controller's object estimate (link_clearance.h), and sets it beside the simulator's truth of
 // whether a link pushed on the object (fingertip_contact_t.link_force_n). Needs a full log (the
-// truth channel). Exit 2 with one message on a log or config it cannot read.
+// truth channel). At each onset of a link's touch, how long the prediction had been within 2 mm
+// (a warning a placement could act on). Exit 2 with one message on a log or config it cannot
+// read.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -31,6 +34,7 @@ namespace {
 constexpr double kBins[] = {0.0, 0.002, 0.005};
 constexpr int kNumBins = 5;  // < 0, < 2 mm, < 5 mm, >= 5 mm, unknown
 constexpr double kTouchN = 0.05;  // a link pushing more than this touches (the truth)
+constexpr double kWarnM = 0.002;  // a prediction this near warns of a touch
 
 int Bin(const std::optional<double>& clearance) {
   if (!clearance) return kNumBins - 1;
@@ -70,6 +74,12 @@ int main(int argc, char** argv) {
     // counts[touching][bin]
     long counts[2][kNumBins] = {};
     long truths = 0;
+    // Per finger: whether a link touched at the last sample, and since when the prediction has
+    // been within kWarnM (-1: it is not). At each touch's onset, how long it had warned.
+    std::vector<bool> touched;
+    std::vector<double> warned_since;
+    std::vector<double> leads;
+    int onsets = 0;
     while (log.Next(&event)) {
       const auto size = static_cast<uint32_t>(event.size);
       if (event.channel == dmpl::channels::kControllerStatus) {
@@ -100,6 +110,17 @@ int main(int argc, char** argv) {
           }
           const bool touching = tip.link_force_n > kTouchN;
           ++counts[touching][Bin(least)];
+          touched.resize(kin.num_fingers(), false);
+          warned_since.resize(kin.num_fingers(), -1.0);
+          const double now = m.utime * 1e-6;
+          const bool warns = least && *least < kWarnM;
+          if (!warns) warned_since[f] = -1.0;
+          if (warns && warned_since[f] < 0) warned_since[f] = now;
+          if (touching && !touched[f]) {
+            ++onsets;
+            if (warns) leads.push_back(now - warned_since[f]);
+          }
+          touched[f] = touching;
         }
       }
     }
@@ -116,6 +137,10 @@ int main(int argc, char** argv) {
       }
       std::printf("}");
     }
+    std::sort(leads.begin(), leads.end());
+    const double median = leads.empty() ? 0.0 : leads[leads.size() / 2];
+    std::printf(", \"touch_onsets\": %d, \"onsets_warned\": %zu, \"warning_lead_median_s\": %.3f",
+                onsets, leads.size(), median);
     std::printf("}\n");
   } catch (const std::exception& e) {
     std::cerr << "dmpl_link_clearance: " << e.what() << "\n";
