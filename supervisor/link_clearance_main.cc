@@ -69,29 +69,21 @@ int main(int argc, char** argv) {
     dmpl::EventLogReader log(log_path);
     dmpl::LogEvent event;
     std::unique_ptr<dmpl::Blackboard> board;
-    std::vector<std::string> fingers;
     std::vector<double> joints;
     // counts[touching][bin]
     long counts[2][kNumBins] = {};
     long truths = 0;
     // Per finger: whether a link touched at the last sample, and since when the prediction has
     // been within kWarnM (-1: it is not). At each touch's onset, how long it had warned.
-    std::vector<bool> touched;
-    std::vector<double> warned_since;
+    std::vector<bool> touched(kin.num_fingers(), false);
+    std::vector<double> warned_since(kin.num_fingers(), -1.0);
     std::vector<double> leads;
     int onsets = 0;
     while (log.Next(&event)) {
       const auto size = static_cast<uint32_t>(event.size);
       if (event.channel == dmpl::channels::kControllerStatus) {
         dmpl::controller_status_t m;
-        if (!dmpl::DecodeMessage(event.data, size, &m)) continue;
-        if (!board) {
-          for (const auto& f : m.fingers) fingers.push_back(f.finger);
-          board = std::make_unique<dmpl::Blackboard>(fingers);
-        }
-        board->view = dmpl::ToControllerView(m, fingers);
-        board->now = board->view.time_s;
-        board->LearnSurface();
+        if (dmpl::DecodeMessage(event.data, size, &m)) dmpl::LearnFromStatus(m, &board);
       } else if (event.channel == dmpl::channels::kSensors) {
         dmpl::hand_sensors_t m;
         if (dmpl::DecodeMessage(event.data, size, &m)) joints = m.joints.position;
@@ -110,8 +102,6 @@ int main(int argc, char** argv) {
           }
           const bool touching = tip.link_force_n > kTouchN;
           ++counts[touching][Bin(least)];
-          touched.resize(kin.num_fingers(), false);
-          warned_since.resize(kin.num_fingers(), -1.0);
           const double now = m.utime * 1e-6;
           const bool warns = least && *least < kWarnM;
           if (!warns) warned_since[f] = -1.0;

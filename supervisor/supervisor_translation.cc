@@ -71,6 +71,18 @@ ControllerView ToControllerView(const controller_status_t& m,
   return view;
 }
 
+void LearnFromStatus(const controller_status_t& m, std::unique_ptr<Blackboard>* board) {
+  if (!*board) {
+    std::vector<std::string> fingers;
+    for (const auto& f : m.fingers) fingers.push_back(f.finger);
+    *board = std::make_unique<Blackboard>(std::move(fingers));
+  }
+  Blackboard& b = **board;
+  b.view = ToControllerView(m, b.fingers);
+  b.now = b.view.time_s;
+  b.LearnSurface();
+}
+
 task_cmd_t ToTaskMessage(const TaskInput& t, const std::vector<std::string>& fingers, int64_t seq,
                          int64_t utime, SimRequest sim, const std::string& reason) {
   task_cmd_t m{};

@@ -106,7 +106,6 @@ int main(int argc, char** argv) {
                                                         : dmpl::channels::kControllerReport;
     dmpl::EventLogReader log(log_path);
     dmpl::LogEvent event;
-    std::vector<std::string> fingers;
     std::unique_ptr<dmpl::Blackboard> board;
     int used = 0;
     while (log.Next(&event)) {
@@ -115,13 +114,7 @@ int main(int argc, char** argv) {
           !dmpl::DecodeMessage(event.data, static_cast<uint32_t>(event.size), &m)) {
         continue;
       }
-      if (!board) {
-        for (const auto& f : m.fingers) fingers.push_back(f.finger);
-        board = std::make_unique<dmpl::Blackboard>(fingers);
-      }
-      board->view = dmpl::ToControllerView(m, fingers);
-      board->now = board->view.time_s;
-      board->LearnSurface();
+      dmpl::LearnFromStatus(m, &board);
       ++used;
     }
     if (!board) throw std::runtime_error("no controller status in " + log_path);
