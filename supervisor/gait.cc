@@ -21,13 +21,14 @@ std::string Fixed(double value, int digits = 2) {
 }  // namespace
 
 Gait::Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const TaskParams& params,
-           uint64_t seed, Report report)
+           uint64_t seed, Report report, const ContactChooser* chooser)
     : board_(board),
       goal_(goal),
       spec_(spec),
       params_(params),
       seed_(seed),
       report_(std::move(report)),
+      chooser_(chooser),
       geometry_(board->home, board->home_centre, spec, params.max_finger_deviation_rad),
       regrasp_(this, board->fingers, spec.order, params.turn.mode, params.grip_while_turning) {}
 
@@ -92,6 +93,10 @@ void Gait::Explore(const std::string& finger) {
     explore_.point = geometry_.TowardTipFront(f, explore_.point, board_->view, board_->surface,
                                               board_->tip_radius_m, params_.max_contact_angle_rad);
   }
+  std::string chosen;
+  explore_.point = ChooseContact(f, explore_.point, axis, sign,
+                                 four ? board_->num_fingers() : board_->num_fingers() - 1,
+                                 &chosen);
   board_->link_touched[f] = false;
   explore_.axis = axis;
   explore_.spaced = spaced;
@@ -109,8 +114,31 @@ void Gait::Explore(const std::string& finger) {
     std::ostringstream note;
     note << std::fixed << std::setprecision(2) << finger << " explores; the others hold "
          << SupportWithout(f) << " N against gravity";
+    if (!chosen.empty()) note << "; " << chosen;
     board_->Note(note.str());
+  } else if (!chosen.empty()) {
+    board_->Note(finger + " explores " + chosen);
   }
+}
+
+Eigen::Vector3d Gait::ChooseContact(int f, const Eigen::Vector3d& point,
+                                    const Eigen::Vector3d& axis, double sign, double rides,
+                                    std::string* why) {
+  if (chooser_ == nullptr || board_->tip_radius_m <= 0) return point;
+  ContactRequest request;
+  request.finger = f;
+  request.point = point;
+  request.ride = Eigen::AngleAxisd(sign * rides * StepSize(), axis.normalized());
+  request.tip_radius_m = board_->tip_radius_m;
+  request.min_spacing_m = spec_.tip_clearance_m;
+  const ContactChoice choice = chooser_->Choose(request, board_->view, board_->surface);
+  if (choice.index == 0) return point;
+  const ContactCandidate& c = choice.chosen();
+  *why = "at " + Fixed(c.offset_rad) + " rad from the gait's point (" + choice.why +
+         ": links " + Fixed(1e3 * c.link_clearance_m, 1) + " mm off, support " +
+         Fixed(c.support_n) + " N; there " + Fixed(1e3 * choice.candidates[0].link_clearance_m, 1) +
+         " mm, " + Fixed(choice.candidates[0].support_n) + " N)";
+  return c.tip;
 }
 
 double Gait::ExploreBack(int f, const Eigen::Vector3d& axis, double sign, bool four) const {

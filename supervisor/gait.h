@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "supervisor/blackboard.h"
+#include "supervisor/contact_chooser.h"
 #include "supervisor/gait_geometry.h"
 #include "supervisor/goal_planner.h"
 #include "supervisor/object_goal.h"
@@ -27,9 +28,11 @@ enum class GaitReport { kGoalReached, kDone, kFailed, kSlipped };
 class Gait : private RegraspActions {
  public:
   using Report = std::function<void(GaitReport, const std::string& reason)>;
-  // `seed`: the run's (random goals). The references must outlive the gait.
+  // `seed`: the run's (random goals); `chooser` (may be null: the gait's points as they are)
+  // places each explorer on the felt surface (params.contact_choice). The pointers and
+  // references must outlive the gait.
   Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const TaskParams& params,
-       uint64_t seed, Report report);
+       uint64_t seed, Report report, const ContactChooser* chooser = nullptr);
 
   void Start();   // a gait task begins, all fingers gripping
   void Resume();  // after a recovery, all fingers gripping
@@ -75,6 +78,10 @@ class Gait : private RegraspActions {
   // What the fingers in contact but `lifted` could hold along the sensed gravity (N;
   // SupportAlong within params.support): said when a finger leaves to explore.
   double SupportWithout(int lifted) const;
+  // The explorer `f`'s `point`, or the ContactChooser's choice around it for the turn it rides
+  // next (`rides` steps about `axis`, by `sign`); `why` says why, when it is another point.
+  Eigen::Vector3d ChooseContact(int f, const Eigen::Vector3d& point, const Eigen::Vector3d& axis,
+                                double sign, double rides, std::string* why);
   bool LimitDeviation() const {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }
@@ -96,6 +103,7 @@ class Gait : private RegraspActions {
   const TaskParams& params_;
   uint64_t seed_;
   Report report_;
+  const ContactChooser* chooser_;
   GaitGeometry geometry_;
   GoalSequence goals_;
   double phase_since_ = 0.0;

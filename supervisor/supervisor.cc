@@ -7,15 +7,18 @@
 namespace dmpl {
 
 Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
-                       SupervisorParams params, uint64_t seed)
-    : tasks_(std::move(tasks)),
+                       SupervisorParams params, uint64_t seed,
+                       std::shared_ptr<const ContactChooser> chooser)
+    : chooser_(std::move(chooser)),
+      tasks_(std::move(tasks)),
       task_params_(std::move(task_params)),
       params_(std::move(params)),
       board_(std::move(fingers)),
       clock_(params_.sensing_gap_s),
       goal_(&board_, task_params_.axis.direction),
       gait_(&board_, &goal_, tasks_.gait, task_params_, seed,
-            [this](GaitReport r, const std::string& why) { OnGaitReport(r, why); }),
+            [this](GaitReport r, const std::string& why) { OnGaitReport(r, why); },
+            chooser_.get()),
       local_(&board_, &goal_, task_params_,
              [this](GraspEvent e, const GraspEventData& d) { grasp_.Process(e, d); },
              [this] { gait_.LocalRotate(); }),

@@ -12,6 +12,7 @@
 // task file, and hands each part what it acts on, as Boost.SML injects an action's
 // dependencies.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,9 +31,11 @@ namespace dmpl {
 
 class Supervisor {
  public:
-  // `seed`: the run's seed (random goals).
+  // `seed`: the run's seed (random goals); `chooser`: the explorer's contacts on the felt
+  // surface (task.contact_choice; null: off).
   Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
-             SupervisorParams params, uint64_t seed = 1);
+             SupervisorParams params, uint64_t seed = 1,
+             std::shared_ptr<const ContactChooser> chooser = nullptr);
   Supervisor(const Supervisor&) = delete;  // its parts point at its members
   Supervisor& operator=(const Supervisor&) = delete;
 
@@ -94,6 +97,7 @@ class Supervisor {
   const CTask& task() const { return tasks_.tasks[task_index_]; }
   bool GaitUnderWay() const;
 
+  std::shared_ptr<const ContactChooser> chooser_;  // before the gait that points at it
   TaskFile tasks_;
   TaskParams task_params_;
   SupervisorParams params_;

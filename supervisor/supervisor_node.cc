@@ -33,12 +33,13 @@ namespace {
 class SupervisorNode : public Node {
  public:
   SupervisorNode(const NodeContext& ctx, std::vector<std::string> fingers, TaskFile tasks,
-                 const TaskParams& task_params, const SupervisorParams& params)
+                 const TaskParams& task_params, const SupervisorParams& params,
+                 std::shared_ptr<const ContactChooser> chooser)
       : Node(ctx),
         params_(params),
         fingers_(fingers),
         core_(fingers, std::move(tasks), task_params, params,
-              static_cast<uint64_t>(ctx.run.seed)) {
+              static_cast<uint64_t>(ctx.run.seed), std::move(chooser)) {
     KeepForResend(ctx.run, 4);
     Subscribe(channels::kControllerReport, &SupervisorNode::OnReport, this);
     Subscribe(channels::kHeartbeat, &SupervisorNode::OnHeartbeat, this);
@@ -199,6 +200,7 @@ struct Loaded {
   TaskFile tasks;
   TaskParams task_params;
   SupervisorParams params;
+  std::shared_ptr<const ContactChooser> chooser;  // task.contact_choice.enabled
 };
 
 Loaded Load(const Config& config) {
@@ -216,6 +218,12 @@ Loaded Load(const Config& config) {
                       std::to_string(l.fingers.size()));
   }
   l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
+  if (l.task_params.contact_choice.enabled) {
+    const SupportParams& s = l.task_params.support;
+    l.chooser = std::make_shared<const ContactChooser>(
+        HandModel::Load(hand), l.task_params.contact_choice,
+        SupportLimits{s.friction, 0.0, s.max_push_n});
+  }
   return l;
 }
 
@@ -227,7 +235,7 @@ namespace dmpl {
 std::unique_ptr<Node> MakeSupervisorNode(const NodeContext& ctx) {
   Loaded l = Load(ctx.config);
   return std::make_unique<SupervisorNode>(ctx, l.fingers, std::move(l.tasks),
-                                                l.task_params, l.params);
+                                                l.task_params, l.params, std::move(l.chooser));
 }
 
 const NodeInfo kSupervisorNode = {"dmpl_supervisor", "run, hand, task, supervisor", MakeSupervisorNode};

@@ -23,6 +23,38 @@ struct SupportParams {
   }
 };
 
+// task.contact_choice: the explorer's next contact chosen among points of the felt surface
+// around the gait's own (contact_chooser.h): one its tip reaches within the joints' limits, whose
+// links stay clear of the felt surface now and after the steps it rides, apart from the other
+// tips, and that leaves the grasp the most support. Off: the gait's point as it is.
+struct ContactChoiceParams {
+  bool enabled = false;
+  double spread_rad = 0.35;        // the farthest candidate from the gait's point, seen from the centre
+  int rings = 2;                   // candidates on rings at spread * k / rings, k = 1..rings
+  int per_ring = 6;                // and this many on each ring
+  // A link predicted no further than this into the felt surface still counts as clear: the
+  // model's own error (1-1.6 mm on synthetic contacts) and the posture's.
+  double link_tolerance_m = 0.002;
+  double limit_margin_rad = 0.05;  // a joint nearer its limit than this has no reach left
+  double reach_tolerance_m = 0.002;  // the tip's IK residual that still counts as reached
+  // The gait's point is kept where its links are clear, unless another candidate holds more than
+  // this times its support (the weakest of the six directions; 0: never for support alone).
+  // Otherwise the nearest clear candidate, the best supported of a ring.
+  double better_support = 0.0;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(enabled));
+    a->Visit(DMPL_NVP(spread_rad), InRange(0, 1.5));
+    a->Visit(DMPL_NVP(rings), InRange(0, 10));
+    a->Visit(DMPL_NVP(per_ring), InRange(1, 32));
+    a->Visit(DMPL_NVP(link_tolerance_m), AtLeast(0));
+    a->Visit(DMPL_NVP(limit_margin_rad), AtLeast(0));
+    a->Visit(DMPL_NVP(reach_tolerance_m), Above(0));
+    a->Visit(DMPL_NVP(better_support), AtLeast(0));
+  }
+};
+
 // Section `task`: what to do. The structure is in the task file; these are its numbers, so that
 // `--set task.axis=y` or `--set task.angle=3.14` change an experiment without editing files.
 struct TaskParams {
@@ -65,6 +97,7 @@ struct TaskParams {
   // until the surface's normal there lies within this of its tip's axis.
   double max_contact_angle_rad = 0.0;
   SupportParams support;
+  ContactChoiceParams contact_choice;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -87,6 +120,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(max_finger_deviation_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(max_contact_angle_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(support));
+    a->Visit(DMPL_NVP(contact_choice));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations
