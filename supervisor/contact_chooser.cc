@@ -112,7 +112,9 @@ double ContactChooser::LinkClearance(int f, const Eigen::VectorXd& q, const Surf
     solid.points.erase(std::remove_if(solid.points.begin(), solid.points.end(), far),
                        solid.points.end());
     if (solid.points.empty()) continue;
-    if (const auto c = SurfaceClearance(solid, surface, object)) least = std::min(least, *c);
+    if (const auto c = SurfaceClearance(solid, surface, object, params_.extend_surface_m)) {
+      least = std::min(least, *c);
+    }
   }
   return least;
 }
@@ -152,6 +154,45 @@ double ContactChooser::Support(int f, const ContactCandidate& c,
     weakest = std::min(weakest, SupportAlong(contacts, d, view.object.translation(), limits_));
   }
   return weakest;
+}
+
+double ContactChooser::ClearStep(const Eigen::Vector3d& axis_in, double step, int skip,
+                                 const ControllerView& view, const SurfaceModel& surface,
+                                 int* blocking) const {
+  if (blocking != nullptr) *blocking = -1;
+  const Eigen::Vector3d axis = axis_in.normalized();
+  const Eigen::Vector3d centre = view.object.translation();
+  const IkParams ik = PlanningIk();
+  struct Rider {
+    int finger;
+    Eigen::VectorXd q;
+    double floor;  // the least clearance it may come to
+  };
+  std::vector<Rider> riders;
+  for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
+    if (k == skip || !view.fingers[k].in_contact) continue;
+    const Eigen::VectorXd q = PostureNow(kin_->finger(k), view.fingers[k]);
+    const double now = LinkClearance(k, q, surface, view.object);
+    riders.push_back({k, q, std::min(-params_.link_tolerance_m, now)});
+  }
+  constexpr int kSamples = 4;
+  double allowed = 0.0;
+  for (int i = 1; i <= kSamples; ++i) {
+    const double phi = step * i / kSamples;
+    const Eigen::AngleAxisd turn(phi, axis);
+    Eigen::Isometry3d turned = view.object;
+    turned.linear() = turn.toRotationMatrix() * view.object.linear();
+    for (Rider& r : riders) {
+      const Eigen::Vector3d tip = centre + turn * (view.fingers[r.finger].tip - centre);
+      r.q = SolveFingerIk(kin_->finger(r.finger), r.q, tip, ik).q;
+      if (LinkClearance(r.finger, r.q, surface, turned) < r.floor) {
+        if (blocking != nullptr) *blocking = r.finger;
+        return allowed;
+      }
+    }
+    allowed = phi;
+  }
+  return allowed;
 }
 
 ContactChoice ContactChooser::Choose(const ContactRequest& request, const ControllerView& view,

@@ -66,6 +66,12 @@ class ContactChooser {
 
   ContactChoice Choose(const ContactRequest& request, const ControllerView& view,
                        const SurfaceModel& surface) const;
+  // The largest part of `step` (rad, signed) about `axis` through the object's centre, in
+  // quarters, that takes no finger in contact but `skip` (-1: none) with its links into the
+  // felt surface: further in than the tolerance, or than it stands now if it is already in.
+  // `blocking` (may be null): the finger that stops it, -1 when none does.
+  double ClearStep(const Eigen::Vector3d& axis, double step, int skip, const ControllerView& view,
+                   const SurfaceModel& surface, int* blocking) const;
 
  private:
   // The candidates' targets: the gait's point, then rings about it (seen from the centre), on

@@ -30,6 +30,7 @@ Gait::Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const Task
       report_(std::move(report)),
       chooser_(chooser),
       geometry_(board->home, board->home_centre, spec, params.max_finger_deviation_rad),
+      link_block_(board->fingers.size(), LinkBlock::kNone),
       regrasp_(this, board->fingers, spec.order, params.turn.mode, params.grip_while_turning) {}
 
 void Gait::Start() {
@@ -98,6 +99,7 @@ void Gait::Explore(const std::string& finger) {
                                  four ? board_->num_fingers() : board_->num_fingers() - 1,
                                  &chosen);
   board_->link_touched[f] = false;
+  if (link_block_[f] == LinkBlock::kBlocked) link_block_[f] = LinkBlock::kPlaced;
   explore_.axis = axis;
   explore_.spaced = spaced;
   explore_.neighbour_rides = !four;
@@ -141,6 +143,28 @@ Eigen::Vector3d Gait::ChooseContact(int f, const Eigen::Vector3d& point,
   return c.tip;
 }
 
+double Gait::StepClearOfLinks(const Eigen::Vector3d& axis, double step) {
+  if (chooser_ == nullptr || !params_.contact_choice.clear_steps) return step;
+  int blocking = -1;
+  const int skip = regrasp_.exploring() ? explorer_ : -1;
+  const double clear =
+      chooser_->ClearStep(axis, step, skip, board_->view, board_->surface, &blocking);
+  if (blocking >= 0 && link_block_[blocking] == LinkBlock::kPlaced) {
+    // Placed again since it stopped a step, where the chooser found it best: the step goes on
+    // (else the gait would stall on a turn no placement clears).
+    link_block_[blocking] = LinkBlock::kNone;
+    return step;
+  }
+  if (blocking >= 0) {
+    link_block_[blocking] = LinkBlock::kBlocked;
+    // Placed again on its tip, where the chooser finds its links clear.
+    regrasp_.set_next_explorer(board_->fingers[blocking]);
+    board_->Note("the step stops at " + Fixed(clear) + " of " + Fixed(step) + " rad: " +
+                 board_->fingers[blocking] + "'s links would enter the felt surface; it explores next");
+  }
+  return clear;
+}
+
 double Gait::ExploreBack(int f, const Eigen::Vector3d& axis, double sign, bool four) const {
   // Back against the rotation, so that the finger never drifts to its joint limits.
   const double n = static_cast<double>(board_->num_fingers());
@@ -157,6 +181,7 @@ void Gait::Rotate(const std::vector<std::string>& /*grippers*/) {
   if (!params_.has_goals()) {
     const double remaining = goal_->remaining();
     step_ = std::copysign(std::min(StepSize(), std::abs(remaining)), remaining);
+    step_ = StepClearOfLinks(params_.axis.direction, step_);
     goal_->Turn(params_.axis.direction, step_, StepSpeed());
     return;
   }
@@ -169,6 +194,7 @@ void Gait::Rotate(const std::vector<std::string>& /*grippers*/) {
     step_ = geometry_.StepWithinReach(to_goal.axis, step_, skip, board_->view);
     ChooseNextExplorer(to_goal.axis, step_ + StepSize(), skip);
   }
+  step_ = StepClearOfLinks(to_goal.axis, step_);
   PreferFingerAtRisk(regrasp_.exploring() ? explorer_ : -1);
   goal_->Aim((Eigen::AngleAxisd(step_, to_goal.axis) * board_->SensedOrientation())
                  .toRotationMatrix(),

@@ -78,6 +78,9 @@ class Gait : private RegraspActions {
   // What the fingers in contact but `lifted` could hold along the sensed gravity (N;
   // SupportAlong within params.support): said when a finger leaves to explore.
   double SupportWithout(int lifted) const;
+  // `step` (signed, about `axis`), or the part of it that keeps the riding fingers' links out of
+  // the felt surface (params.contact_choice.clear_steps); the finger that stops it explores next.
+  double StepClearOfLinks(const Eigen::Vector3d& axis, double step);
   // The explorer `f`'s `point`, or the ContactChooser's choice around it for the turn it rides
   // next (`rides` steps about `axis`, by `sign`); `why` says why, when it is another point.
   Eigen::Vector3d ChooseContact(int f, const Eigen::Vector3d& point, const Eigen::Vector3d& axis,
@@ -111,6 +114,10 @@ class Gait : private RegraspActions {
   double step_ = 0.0;        // the rotation step under way
   double step_limit_ = 0.0;  // StepLimit at the last explore (0: none)
   ExploreState explore_;
+  // Per finger: whether it stopped a step with its links (StepClearOfLinks), and was placed
+  // again since.
+  enum class LinkBlock { kNone, kBlocked, kPlaced };
+  std::vector<LinkBlock> link_block_;
   bool done_ = false;
   RegraspChart regrasp_;
 };

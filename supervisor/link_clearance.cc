@@ -13,7 +13,7 @@ constexpr double kMinCosine = 0.1;
 }  // namespace
 
 std::optional<double> SurfaceClearance(const LinkSolid& solid, const SurfaceModel& surface,
-                                       const Eigen::Isometry3d& object) {
+                                       const Eigen::Isometry3d& object, double extend_m) {
   const Eigen::Isometry3d to_object = object.inverse();
   std::optional<double> least;
   for (const Eigen::Vector3d& point : solid.points) {
@@ -22,7 +22,14 @@ std::optional<double> SurfaceClearance(const LinkSolid& solid, const SurfaceMode
     if (r < kNearCentreM) continue;
     const Eigen::Vector3d d = p / r;
     const SurfacePoint s = surface.Along(d);
-    if (!s.known) continue;
+    if (!s.known) {
+      if (extend_m <= 0) continue;
+      const std::optional<double> out = surface.OutsidePlanes(p, extend_m);
+      if (!out) continue;
+      const double gap = *out - solid.radius;
+      least = least ? std::min(*least, gap) : gap;
+      continue;
+    }
     const double gap = (r - s.distance_m) * std::max(d.dot(s.normal), kMinCosine) - solid.radius;
     least = least ? std::min(*least, gap) : gap;
   }

@@ -18,7 +18,9 @@ namespace dmpl {
 // surface's normal there (exact for a face, and for a sphere about its centre), less the solid's
 // radius; the least of them. Only points in directions the model knows count; nothing when it
 // knows none of them.
+// With `extend_m` > 0, a point in a direction the model does not know is measured against the
+// felt tangent planes near it instead (SurfaceModel::OutsidePlanes, of that width).
 std::optional<double> SurfaceClearance(const LinkSolid& solid, const SurfaceModel& surface,
-                                       const Eigen::Isometry3d& object);
+                                       const Eigen::Isometry3d& object, double extend_m = 0.0);
 
 }  // namespace dmpl

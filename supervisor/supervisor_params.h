@@ -41,6 +41,12 @@ struct ContactChoiceParams {
   // this times its support (the weakest of the six directions; 0: never for support alone).
   // Otherwise the nearest clear candidate, the best supported of a ring.
   double better_support = 0.0;
+  // Each rotation step also stops where a riding finger's links would enter the felt surface
+  // (ContactChooser::ClearStep), and that finger explores next.
+  bool clear_steps = false;
+  // Where the felt surface is unknown, a link is measured against the felt tangent planes
+  // within about this distance of it (0: such a link counts as clear).
+  double extend_surface_m = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -52,6 +58,8 @@ struct ContactChoiceParams {
     a->Visit(DMPL_NVP(limit_margin_rad), AtLeast(0));
     a->Visit(DMPL_NVP(reach_tolerance_m), Above(0));
     a->Visit(DMPL_NVP(better_support), AtLeast(0));
+    a->Visit(DMPL_NVP(clear_steps));
+    a->Visit(DMPL_NVP(extend_surface_m), AtLeast(0));
   }
 };
 

@@ -61,4 +61,27 @@ SurfacePoint SurfaceModel::Along(const Eigen::Vector3d& direction) const {
   return s;
 }
 
+std::optional<double> SurfaceModel::OutsidePlanes(const Eigen::Vector3d& point,
+                                                  double width_m) const {
+  const double inv_width2 = 1.0 / (2.0 * width_m * width_m);
+  // The surface's normal near the point: the nearby contacts' mean. Only planes facing that way
+  // say where it lies (on a curved surface a plane from round the curve has the point inside).
+  Eigen::Vector3d mean_normal = Eigen::Vector3d::Zero();
+  for (const SurfaceContact& c : contacts_) {
+    mean_normal += std::exp(-(c.point - point).squaredNorm() * inv_width2) * c.normal;
+  }
+  if (mean_normal.norm() < 1e-9) return std::nullopt;
+  mean_normal.normalize();
+  const double inv_kernel2 = 1.0 / (params_.kernel_rad * params_.kernel_rad);
+  double sum_w = 0.0, sum_d = 0.0;
+  for (const SurfaceContact& c : contacts_) {
+    const double w = std::exp(-(c.point - point).squaredNorm() * inv_width2 +
+                              (c.normal.dot(mean_normal) - 1.0) * inv_kernel2);
+    sum_w += w;
+    sum_d += w * c.normal.dot(point - c.point);
+  }
+  if (!(sum_w >= params_.min_support)) return std::nullopt;
+  return sum_d / sum_w;
+}
+
 }  // namespace dmpl

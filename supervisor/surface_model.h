@@ -12,6 +12,7 @@
 // surface it is right to first order where a sphere-about-the-centre model is not; the pose
 // estimate's noise (0.5 cm in the paper) averages out over the contacts near d.
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -52,6 +53,12 @@ class SurfaceModel {
            const Eigen::Vector3d& outward, double time_s);
   // The surface along `direction` (object frame) from the object's centre.
   SurfacePoint Along(const Eigen::Vector3d& direction) const;
+  // How far `point` (object frame) lies outside the felt tangent planes near it (negative:
+  // inside): the surface extended from where it was felt, as a cylinder's side continues past
+  // the contacts along it. The planes are weighted by a Gaussian of their contact's distance
+  // from the point (width `width_m`) and by how near their normal is to the nearby contacts'
+  // mean (kernel_rad). Nothing when the weights sum to less than min_support.
+  std::optional<double> OutsidePlanes(const Eigen::Vector3d& point, double width_m) const;
   size_t size() const { return contacts_.size(); }
   const std::vector<SurfaceContact>& contacts() const { return contacts_; }  // oldest first
 

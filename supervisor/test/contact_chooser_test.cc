@@ -159,5 +159,27 @@ TEST(ContactChooserTest, APointThatPutsALinkIntoTheFeltSurfaceGivesWayToAClearOn
   EXPECT_GT(chosen.support_n, 1.0);
 }
 
+// Turning the held sphere about the palm's normal carries each tip round it: half a radian
+// either way every finger's links stay out of it; a whole radian one way brings the ring
+// finger's links into it past half-way, and that finger is named.
+TEST(ContactChooserTest, AStepStopsWhereARidingFingersLinksWouldEnterTheSurface) {
+  const HandModel model = testing::LoadHand();
+  const Grasp g = SphereGrasp();
+  const ContactChooser chooser = MakeChooser(model);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  int blocking = -2;
+  EXPECT_DOUBLE_EQ(chooser.ClearStep(x, 0.5, -1, g.view, g.surface, &blocking), 0.5);
+  EXPECT_EQ(blocking, -1);
+  EXPECT_DOUBLE_EQ(chooser.ClearStep(x, -0.5, -1, g.view, g.surface, &blocking), -0.5);
+  EXPECT_EQ(blocking, -1);
+  const double clear = chooser.ClearStep(x, 1.0, -1, g.view, g.surface, &blocking);
+  EXPECT_EQ(blocking, 3);
+  EXPECT_GE(clear, 0.5);
+  EXPECT_LT(clear, 1.0);
+  // Without the ring finger (it explores meanwhile) the whole radian is clear of the others.
+  EXPECT_DOUBLE_EQ(chooser.ClearStep(x, 1.0, 3, g.view, g.surface, &blocking), 1.0);
+  EXPECT_EQ(blocking, -1);
+}
+
 }  // namespace
 }  // namespace dmpl

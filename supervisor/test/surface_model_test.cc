@@ -136,3 +136,37 @@ TEST(SurfaceModelTest, AnUnexploredSideIsUnknownAndASlidingFingerIsThinnedOut) {
 
 }  // namespace
 }  // namespace dmpl
+
+namespace dmpl {
+namespace {
+
+// A standing cylinder (r 2 cm, along z) felt only around its middle (|z| < 1 cm), under the
+// paper's 0.5 cm pose noise: 3 cm up its side, where no direction from the centre is known,
+// the felt side's planes still say how far out a point stands.
+TEST(SurfaceModelTest, TheFeltSidesPlanesExtendPastWhereItWasFelt) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 0.005);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), height(-0.01, 0.01);
+  SurfaceModel model;
+  for (int i = 0; i < 400; ++i) {
+    const double a = angle(rng);
+    const Eigen::Vector3d n(std::cos(a), std::sin(a), 0.0);
+    Eigen::Isometry3d estimate = Eigen::Isometry3d::Identity();
+    estimate.translation() = Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    model.Add(estimate, 0.02 * n + Eigen::Vector3d(0, 0, height(rng)), n, 0.001 * i);
+  }
+  const Eigen::Vector3d side(std::cos(0.3), std::sin(0.3), 0.0);
+  for (double out : {-0.005, 0.0, 0.005}) {
+    const Eigen::Vector3d p = (0.02 + out) * side + Eigen::Vector3d(0, 0, 0.03);
+    EXPECT_FALSE(model.Along(p).known);
+    const std::optional<double> d = model.OutsidePlanes(p, 0.015);
+    ASSERT_TRUE(d.has_value());
+    // The planes' offsets average the pose noise over the few tens near the point: 1.5 mm.
+    EXPECT_NEAR(*d, out, 0.0015);
+  }
+  // Far from every contact the planes say nothing.
+  EXPECT_FALSE(model.OutsidePlanes(Eigen::Vector3d(0, 0, 0.2), 0.015).has_value());
+}
+
+}  // namespace
+}  // namespace dmpl
