@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <memory>
 
 #include "components/runtime/lcm_eigen.h"
 #include "components/hand/hand_model.h"
@@ -25,6 +26,7 @@
 #include "dmpl/joint_cmd_t.hpp"
 #include "dmpl/sim_control_t.hpp"
 #include "dmpl/sim_status_t.hpp"
+#include "sim_process/sim/background_step.h"
 #include "sim_process/sim/hand_sim.h"
 #include "sim_process/sim/sim_scheduler.h"
 
@@ -49,6 +51,10 @@ class SimNode : public Node, private SimLoop {
     for (const auto& p : run_.lockstep_participants) waiting_for_.push_back(p);
     KeepForResend(run_, 4);  // the truths of the ticks that may still be unanswered
     PrepareMessages();
+    if (sim.background_step && run_.lockstep && sim.command_delay_ticks >= 1 &&
+        ctx.bus->in_process() != nullptr && BackgroundStep::Parallel()) {
+      stepper_ = std::make_unique<BackgroundStep>();
+    }
     if (run_.lockstep) {
       AddTimer(0.05, [this] { CheckLockstep(); });
     } else {
@@ -193,6 +199,7 @@ class SimNode : public Node, private SimLoop {
   }
 
   void OnJointCmd(const lcm::ReceiveBuffer*, const std::string&, const joint_cmd_t* cmd) {
+    FinishStep();
     if (!scheduler_.started() || exit_requested()) return;
     const double now = MonotonicSeconds();
     if (!run_.lockstep) MeasureLatency(*cmd, now);
@@ -274,6 +281,7 @@ class SimNode : public Node, private SimLoop {
   }
 
   void OnSimControl(const lcm::ReceiveBuffer*, const std::string&, const sim_control_t* c) {
+    FinishStep();
     const int64_t tick = scheduler_.tick();
     if (!scheduler_.OnControl(FromMessage(*c), MonotonicSeconds())) {
       log().warn("late sim control for seq {} applied at tick {}", c->seq, tick);
@@ -281,13 +289,39 @@ class SimNode : public Node, private SimLoop {
   }
 
   bool StepTo(int64_t tick) override {
+    FinishStep();
+    // The time the step ends at, as the simulator sums it.
+    double end = sim_.time();
+    for (int i = 0; i < sim_params_.steps_per_tick; ++i) end += sim_params_.physics.time_step;
+    const bool last = end >= sim_params_.duration_s - 1e-9;
+    if (stepper_ != nullptr && !last) {
+      // Its truth goes out when something next needs the simulator (FinishStep): in lockstep,
+      // the command that answers the tick before, which the nodes compute meanwhile.
+      stepped_tick_ = tick;
+      stepper_->Start([this] { Step(); });
+      return false;
+    }
+    Step();
+    PublishTick(tick);
+    if (!last) return false;
+    log().info("reached the end of the run at t = {:.3f} s", sim_.time());
+    return true;
+  }
+
+  void Step() {
     const double t0 = MonotonicSeconds();
     for (int i = 0; i < sim_params_.steps_per_tick; ++i) sim_.Step();
     step_us_ = (MonotonicSeconds() - t0) * 1e6 / sim_params_.steps_per_tick;
+  }
+
+  // Waits for a step under way in the background and publishes its truth: before anything
+  // reads or changes the simulator.
+  void FinishStep() {
+    if (stepped_tick_ < 0) return;
+    stepper_->Wait();
+    const int64_t tick = stepped_tick_;
+    stepped_tick_ = -1;
     PublishTick(tick);
-    if (sim_.time() < sim_params_.duration_s - 1e-9) return false;
-    log().info("reached the end of the run at t = {:.3f} s", sim_.time());
-    return true;
   }
 
   void Fault(const std::string& what) override {
@@ -297,6 +331,7 @@ class SimNode : public Node, private SimLoop {
   }
 
   void Finished(const SimControl* stop, bool gave_up) override {
+    FinishStep();
     if (stop != nullptr) {
       log().info("stop requested ({}) at t = {:.3f} s", stop->reason, sim_.time());
     }
@@ -333,6 +368,7 @@ class SimNode : public Node, private SimLoop {
   }
 
   void CheckLockstep() {
+    FinishStep();
     if (scheduler_.started()) {
       if (!exit_requested()) scheduler_.CheckTimeout(MonotonicSeconds());
       return;
@@ -347,6 +383,7 @@ class SimNode : public Node, private SimLoop {
 
   // --- real time ----------------------------------------------------------------------------
   void RealTimeStep() {
+    FinishStep();
     if (exit_requested()) return;
     const double now = MonotonicSeconds();
     const double due = (now - wall_start_) * sim_params_.realtime_rate;
@@ -357,6 +394,7 @@ class SimNode : public Node, private SimLoop {
   }
 
   void ReportProgress() {
+    FinishStep();
     if (!scheduler_.started()) return;
     if (scheduler_.paused()) {
       const double paused_s = MonotonicSeconds() - scheduler_.paused_since();
@@ -388,6 +426,10 @@ class SimNode : public Node, private SimLoop {
   std::vector<double> latencies_us_;
   int64_t last_answered_ = -1;
   double wall_start_ = 0;
+  // sim.background_step: the step under way on its own thread, and the tick it steps to (-1:
+  // none). Last: it goes first, its step done, before what the step touches.
+  int64_t stepped_tick_ = -1;
+  std::unique_ptr<BackgroundStep> stepper_;
 };
 
 }  // namespace

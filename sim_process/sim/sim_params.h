@@ -155,6 +155,10 @@ struct SimParams {
   // answers; it also lets the simulator step while the nodes compute the next command, so a
   // lockstep loop on two CPUs runs in parallel. 0: the command of tick k drives the step from k.
   int command_delay_ticks = 1;
+  // One process in lockstep with that delay, allowed two CPUs or more: the step runs on a thread
+  // of its own while the other nodes answer the tick before (background_step.h); the same run,
+  // bit for bit.
+  bool background_step = true;
   double duration_s = 10.0;        // the run ends after this much simulated time
   double realtime_rate = 1.0;      // real-time mode: sim seconds per wall second
   std::string stats_file;          // at the end: JSON with ticks, real-time factor, latencies
@@ -172,6 +176,7 @@ struct SimParams {
     a->Visit(DMPL_NVP(initial_joints));
     a->Visit(DMPL_NVP(steps_per_tick), AtLeast(1));
     a->Visit(DMPL_NVP(command_delay_ticks), InRange(0, 100));
+    a->Visit(DMPL_NVP(background_step));
     a->Visit(DMPL_NVP(duration_s), Above(0));
     a->Visit(DMPL_NVP(realtime_rate), Above(0));
     a->Visit(DMPL_NVP(stats_file));

@@ -20,6 +20,7 @@ from dmpl_tools.sweep import run_sweep
 ROOT = Path(mp.ROOT)
 FIG8 = ROOT / "configs/experiments/fig8_sphere.yaml"
 SHORT = ["task.angle=0.1"]
+DELAYED = ["sim.command_delay_ticks=1"]
 METRIC_KEYS = ["object_dropped", "rotation_total_rad", "final_orientation_error_rad",
                "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
                "sim_time_s", "status"]
@@ -64,6 +65,14 @@ class MainJobTest(unittest.TestCase):
             for key in METRIC_KEYS:
                 self.assertEqual(a[key], b[key], f"{key}, delay {delay}")
             self.assertEqual(a["status"], "success")
+        # One process on one CPU steps the physics on the nodes' thread, on two on its own
+        # (sim.background_step): the same run.
+        c, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=[*SHORT, *DELAYED],
+                              echo=False, one_process=True, cpus=[-1])
+        d, _ = run_experiment(FIG8, tempfile.mkdtemp(), seed=7, sets=[*SHORT, *DELAYED],
+                              echo=False, one_process=True, cpus=[0, -1] if cpus else None)
+        for key in METRIC_KEYS:
+            self.assertEqual(c[key], d[key], f"{key}, one process on one CPU or two")
 
     def test_with_mujoco_one_process_equals_multi_process(self):
         # The second engine (sim.engine: mujoco) is as deterministic as the first.

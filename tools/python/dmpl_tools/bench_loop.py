@@ -9,7 +9,10 @@ wakeup is the cheapest) and the loop with the scheduler free.
 
 Keys: rtf_multiprocess, rtf_oneprocess (steady state, from the simulator's own clock, recording
 off; the median of five alternating rounds), rtf_oneprocess_mujoco and tick_us_oneprocess_mujoco
-(the one-process loop with sim.engine=mujoco, in the same rounds), rtf_multiprocess_no_delay,
+(the one-process loop with sim.engine=mujoco, in the same rounds; the one-process loop runs on
+the CPUs the multi-process one gets, its physics on a thread of its own: sim.background_step),
+rtf_oneprocess_mujoco_one_cpu and tick_us_oneprocess_mujoco_one_cpu (the same pinned to one
+CPU, where the physics steps on the nodes' thread), rtf_multiprocess_no_delay,
 rtf_multiprocess_unpinned, tick_us_multiprocess, tick_us_oneprocess, tick_overhead_us (what
 multi-process adds per tick; with the delay part of it runs in parallel), lcm_hop_us (half a
 ping-pong round trip of a message of the loop's mean size between two processes on one CPU;
@@ -113,11 +116,18 @@ def bench_loop(rounds=5):
         nbytes = _mean_message_bytes(tmp)
         hop = _hop_us(nbytes, resolve_cpus(ONE_CPU))
         hop_free = _hop_us(nbytes)
-        runs = {"multi": [], "one": [], "one_mujoco": [], "no_delay": [], "free": []}
+        # One process on the CPUs the multi-process loop gets (its physics steps on a thread of
+        # its own: sim.background_step), and on one CPU as well.
+        one_cpus = [0, -1] if layout_cpus else ONE_CPU
+        runs = {"multi": [], "one": [], "one_mujoco": [], "one_mujoco_one_cpu": [],
+                "no_delay": [], "free": []}
         for r in range(rounds):
             runs["multi"].append(_run(tmp, f"multi{r}", False, delayed, layout_cpus, layout_pins))
-            runs["one"].append(_run(tmp, f"one{r}", True, delayed))
-            runs["one_mujoco"].append(_run(tmp, f"onemj{r}", True, [*delayed, "sim.engine=mujoco"]))
+            runs["one"].append(_run(tmp, f"one{r}", True, delayed, one_cpus))
+            runs["one_mujoco"].append(_run(tmp, f"onemj{r}", True, [*delayed, "sim.engine=mujoco"],
+                                           one_cpus))
+            runs["one_mujoco_one_cpu"].append(
+                _run(tmp, f"onemj1{r}", True, [*delayed, "sim.engine=mujoco"]))
             runs["no_delay"].append(_run(tmp, f"nodelay{r}", False, no_delay))
             runs["free"].append(_run(tmp, f"free{r}", False, delayed, cpus=None))
             print(f"round {r + 1}/{rounds}: us/tick (stolen CPU per s) "
@@ -126,11 +136,14 @@ def bench_loop(rounds=5):
                               for key, label in (("multi", "multi-process"),
                                                  ("one", "one-process"),
                                                  ("one_mujoco", "one-process MuJoCo"),
+                                                 ("one_mujoco_one_cpu",
+                                                  "one-process MuJoCo on one CPU"),
                                                  ("no_delay", "multi-process without the delay"),
                                                  ("free", "multi-process unpinned"))),
                   file=sys.stderr)
         (multi, multi_dir), (one, _) = _median(runs["multi"]), _median(runs["one"])
         one_mujoco, _ = _median(runs["one_mujoco"])
+        one_mujoco_one_cpu, _ = _median(runs["one_mujoco_one_cpu"])
         (bare, bare_dir), (free, _) = _median(runs["no_delay"]), _median(runs["free"])
         # Real time as a real hand runs it: the scheduler free.
         realtime, _ = _run(tmp, "realtime", False, [*delayed, "run.lockstep=false"], cpus=None)
@@ -141,14 +154,16 @@ def bench_loop(rounds=5):
             "rtf_multiprocess": multi["realtime_factor"],
             "rtf_oneprocess": one["realtime_factor"],
             "rtf_oneprocess_mujoco": one_mujoco["realtime_factor"],
+            "rtf_oneprocess_mujoco_one_cpu": one_mujoco_one_cpu["realtime_factor"],
             "rtf_multiprocess_no_delay": bare["realtime_factor"],
             "rtf_multiprocess_unpinned": free["realtime_factor"],
             "command_delay_ticks": DELAY,
             "loop_cpus": {"dmpl_sim": layout_pins.get("dmpl_sim", layout_cpus),
-                          "others": layout_cpus, "no_delay": ONE_CPU},
+                          "others": layout_cpus, "no_delay": ONE_CPU, "one_process": one_cpus},
             "tick_us_multiprocess": multi["tick_us"],
             "tick_us_oneprocess": one["tick_us"],
             "tick_us_oneprocess_mujoco": one_mujoco["tick_us"],
+            "tick_us_oneprocess_mujoco_one_cpu": one_mujoco_one_cpu["tick_us"],
             "tick_us_multiprocess_no_delay": bare["tick_us"],
             "tick_overhead_us": overhead,
             "tick_overhead_us_no_delay": overhead_bare,
