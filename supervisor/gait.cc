@@ -149,19 +149,20 @@ double Gait::StepClearOfLinks(const Eigen::Vector3d& axis, double step) {
   const int skip = regrasp_.exploring() ? explorer_ : -1;
   const double clear =
       chooser_->ClearStep(axis, step, skip, board_->view, board_->surface, &blocking);
-  if (blocking >= 0 && link_block_[blocking] == LinkBlock::kPlaced) {
-    // Placed again since it stopped a step, where the chooser found it best: the step goes on
-    // (else the gait would stall on a turn no placement clears).
-    link_block_[blocking] = LinkBlock::kNone;
-    return step;
+  const bool replaced = blocking >= 0 && link_block_[blocking] == LinkBlock::kPlaced;
+  // A finger placed again after it stopped a step counts for this step only.
+  for (LinkBlock& b : link_block_) {
+    if (b == LinkBlock::kPlaced) b = LinkBlock::kNone;
   }
-  if (blocking >= 0) {
-    link_block_[blocking] = LinkBlock::kBlocked;
-    // Placed again on its tip, where the chooser finds its links clear.
-    regrasp_.set_next_explorer(board_->fingers[blocking]);
-    board_->Note("the step stops at " + Fixed(clear) + " of " + Fixed(step) + " rad: " +
-                 board_->fingers[blocking] + "'s links would enter the felt surface; it explores next");
-  }
+  // Placed again where the chooser found it best, it stops the step no more: else the gait would
+  // stall on a turn no placement clears.
+  if (blocking < 0 || replaced) return step;
+  link_block_[blocking] = LinkBlock::kBlocked;
+  // Placed again on its tip, where the chooser finds its links clear.
+  regrasp_.set_next_explorer(board_->fingers[blocking]);
+  board_->Note("the step stops at " + Fixed(clear) + " of " + Fixed(step) + " rad: " +
+               board_->fingers[blocking] +
+               "'s links would enter the felt surface; it explores next");
   return clear;
 }
 

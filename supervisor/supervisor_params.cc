@@ -14,6 +14,11 @@ void TaskParams::Validate(const std::string& source) const {
     throw ConfigError("config error in " + source + ": key 'task." + key + "': " + what);
   };
   if (!std::isfinite(angle)) fail("angle", "must be finite");
+  const ContactChoiceParams& choice = contact_choice;
+  if (!choice.enabled && (choice.clear_steps || choice.extend_surface_m > 0)) {
+    fail(choice.clear_steps ? "contact_choice.clear_steps" : "contact_choice.extend_surface_m",
+         "needs task.contact_choice.enabled: true (the chooser's IK and link model)");
+  }
 }
 
 bool TaskParams::has_goals() const { return !goals.empty() || random_goals > 0; }

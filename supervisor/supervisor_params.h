@@ -29,7 +29,7 @@ struct SupportParams {
 // tips, and that leaves the grasp the most support. Off: the gait's point as it is.
 struct ContactChoiceParams {
   bool enabled = false;
-  double spread_rad = 0.35;        // the farthest candidate from the gait's point, seen from the centre
+  double spread_rad = 0.35;        // the farthest candidate from the gait's point (from the centre)
   int rings = 2;                   // candidates on rings at spread * k / rings, k = 1..rings
   int per_ring = 6;                // and this many on each ring
   // A link predicted no further than this into the felt surface still counts as clear: the

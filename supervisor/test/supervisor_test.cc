@@ -497,6 +497,18 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
             std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->random_goal_separation_rad = 3.1; }).find("exp.yaml"),
             std::string::npos);
+  // The chooser's companions without the chooser would do nothing: said, not ignored.
+  EXPECT_NE(error([](TaskParams* t) { t->contact_choice.clear_steps = true; })
+                .find("key 'task.contact_choice.clear_steps': needs task.contact_choice.enabled"),
+            std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->contact_choice.spread_rad = 2.0; })
+                .find("task.contact_choice.spread_rad"),
+            std::string::npos);
+  EXPECT_EQ(error([](TaskParams* t) {
+              t->contact_choice.enabled = true;
+              t->contact_choice.clear_steps = true;
+            }),
+            "");
   EXPECT_EQ(error([](TaskParams*) {}), "");
 }
 
