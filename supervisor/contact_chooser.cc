@@ -215,6 +215,12 @@ ContactChoice ContactChooser::Choose(const ContactRequest& request, const Contro
     }
     c.support_n = Support(f, c, view);
   }
+  Select(request, &choice);
+  return choice;
+}
+
+void ContactChooser::Select(const ContactRequest& request, ContactChoice* out) const {
+  ContactChoice& choice = *out;
   auto viable = [&](const ContactCandidate& c) {
     return c.reached && c.spacing_m >= request.min_spacing_m;
   };
@@ -224,7 +230,7 @@ ContactChoice ContactChooser::Choose(const ContactRequest& request, const Contro
   const ContactCandidate& gait = choice.candidates[0];
   if (viable(gait) && clear(gait)) {
     choice.why = "the gait's point";
-    if (params_.better_support <= 0) return choice;
+    if (params_.better_support <= 0) return;
     int best = 0;
     for (int i = 1; i < static_cast<int>(choice.candidates.size()); ++i) {
       const ContactCandidate& c = choice.candidates[i];
@@ -234,7 +240,7 @@ ContactChoice ContactChooser::Choose(const ContactRequest& request, const Contro
       choice.index = best;
       choice.why = "more support";
     }
-    return choice;
+    return;
   }
   // The nearest viable and clear one; of a ring, the best supported.
   int best = -1;
@@ -250,7 +256,7 @@ ContactChoice ContactChooser::Choose(const ContactRequest& request, const Contro
   if (best >= 0) {
     choice.index = best;
     choice.why = viable(gait) ? "links clear" : "within reach and apart";
-    return choice;
+    return;
   }
   // Nothing clear: the viable one whose links come least close.
   for (int i = 0; i < static_cast<int>(choice.candidates.size()); ++i) {
@@ -263,9 +269,9 @@ ContactChoice ContactChooser::Choose(const ContactRequest& request, const Contro
     choice.index = best;
     choice.why = "links least close";
   } else {
-    choice.why = best < 0 ? "none within reach: the gait's point" : "the gait's point";
+    choice.why = best < 0 ? "nothing within reach and apart: the gait's point"
+                          : "nothing clearer: the gait's point";
   }
-  return choice;
 }
 
 }  // namespace dmpl

@@ -88,6 +88,9 @@ class ContactChooser {
   double LinkClearance(int f, const Eigen::VectorXd& q, const SurfaceModel& surface,
                        const Eigen::Isometry3d& object) const;
   double Support(int f, const ContactCandidate& c, const ControllerView& view) const;
+  // Of the assessed candidates: the gait's point where it is reached, apart and clear; else the
+  // nearest that is (of a ring, the best supported); else the one whose links come least close.
+  void Select(const ContactRequest& request, ContactChoice* choice) const;
 
   ContactChoiceParams params_;
   SupportLimits limits_;
