@@ -318,9 +318,9 @@ class SimNode : public Node, private SimLoop {
   // reads or changes the simulator.
   void FinishStep() {
     if (stepped_tick_ < 0) return;
-    stepper_->Wait();
     const int64_t tick = stepped_tick_;
-    stepped_tick_ = -1;
+    stepped_tick_ = -1;  // a step that threw is not published
+    stepper_->Wait();
     PublishTick(tick);
   }
 
