@@ -44,13 +44,23 @@ const Eigen::Vector3d kLoadDirections[] = {Eigen::Vector3d::UnitX(),  -Eigen::Ve
 
 }  // namespace
 
+std::vector<SupportContact> GripContacts(const ControllerView& view, int lifted) {
+  std::vector<SupportContact> contacts;
+  for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
+    const FingerView& v = view.fingers[k];
+    const Eigen::Vector3d inward = v.contact - v.tip;  // the tip sphere's normal into the object
+    if (k == lifted || !v.in_contact || inward.norm() < 1e-6) continue;
+    contacts.push_back({v.contact, inward.normalized()});
+  }
+  return contacts;
+}
+
 ContactChooser::ContactChooser(const HandModel& model, ContactChoiceParams params,
                                SupportLimits limits)
     : params_(params),
       limits_(limits),
-      model_(std::make_unique<HandModel>(model)),
-      kin_(std::make_unique<HandKinematics>(*model_)) {
-  for (int f = 0; f < kin_->num_fingers(); ++f) links_.emplace_back(*model_, kin_->finger(f));
+      kin_(std::make_unique<HandKinematics>(model)) {
+  for (int f = 0; f < kin_->num_fingers(); ++f) links_.emplace_back(model, kin_->finger(f));
 }
 
 std::vector<ContactCandidate> ContactChooser::Candidates(const ContactRequest& request,
@@ -141,13 +151,7 @@ void ContactChooser::Assess(int f, const Eigen::VectorXd& seed, const ContactReq
 
 double ContactChooser::Support(int f, const ContactCandidate& c,
                                const ControllerView& view) const {
-  std::vector<SupportContact> contacts;
-  for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
-    const FingerView& other = view.fingers[k];
-    const Eigen::Vector3d inward = other.contact - other.tip;
-    if (k == f || !other.in_contact || inward.norm() < 1e-6) continue;
-    contacts.push_back({other.contact, inward.normalized()});
-  }
+  std::vector<SupportContact> contacts = GripContacts(view, f);
   contacts.push_back({c.contact, -c.outward});
   double weakest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& d : kLoadDirections) {

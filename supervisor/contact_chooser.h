@@ -60,6 +60,10 @@ struct ContactChoice {
   const ContactCandidate& chosen() const { return candidates[index]; }
 };
 
+// The contacts of the fingers in contact but `lifted` (-1: none) as the grasp-support plan takes
+// them: each at its sensed point, its normal the tip sphere's into the object.
+std::vector<SupportContact> GripContacts(const ControllerView& view, int lifted);
+
 class ContactChooser {
  public:
   ContactChooser(const HandModel& model, ContactChoiceParams params, SupportLimits limits);
@@ -94,8 +98,7 @@ class ContactChooser {
 
   ContactChoiceParams params_;
   SupportLimits limits_;
-  std::unique_ptr<HandModel> model_;  // the links keep references into these
-  std::unique_ptr<HandKinematics> kin_;
+  std::unique_ptr<HandKinematics> kin_;  // on the heap: the links keep references into it
   std::vector<FingerLinks> links_;
 };
 

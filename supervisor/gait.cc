@@ -213,15 +213,8 @@ void Gait::Grip(const std::string& finger) {
 
 double Gait::SupportWithout(int lifted) const {
   const ControllerView& view = board_->view;
-  std::vector<SupportContact> contacts;
-  for (int k = 0; k < board_->num_fingers(); ++k) {
-    const FingerView& v = view.fingers[k];
-    const Eigen::Vector3d inward = v.contact - v.tip;  // the tip sphere's normal into the object
-    if (k == lifted || !v.in_contact || inward.norm() < 1e-6) continue;
-    contacts.push_back({v.contact, inward.normalized()});
-  }
   const SupportParams& p = params_.support;
-  return SupportAlong(contacts, view.gravity, view.object.translation(),
+  return SupportAlong(GripContacts(view, lifted), view.gravity, view.object.translation(),
                       {p.friction, 0.0, p.max_push_n});
 }
 

@@ -22,15 +22,14 @@ std::optional<double> SurfaceClearance(const LinkSolid& solid, const SurfaceMode
     if (r < kNearCentreM) continue;
     const Eigen::Vector3d d = p / r;
     const SurfacePoint s = surface.Along(d);
-    if (!s.known) {
-      if (extend_m <= 0) continue;
-      const std::optional<double> out = surface.OutsidePlanes(p, extend_m);
-      if (!out) continue;
-      const double gap = *out - solid.radius;
-      least = least ? std::min(*least, gap) : gap;
-      continue;
+    std::optional<double> outside;
+    if (s.known) {
+      outside = (r - s.distance_m) * std::max(d.dot(s.normal), kMinCosine);
+    } else if (extend_m > 0) {
+      outside = surface.OutsidePlanes(p, extend_m);
     }
-    const double gap = (r - s.distance_m) * std::max(d.dot(s.normal), kMinCosine) - solid.radius;
+    if (!outside) continue;
+    const double gap = *outside - solid.radius;
     least = least ? std::min(*least, gap) : gap;
   }
   return least;
