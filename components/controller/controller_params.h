@@ -32,6 +32,9 @@ struct NormalsAimParams {
   int min_contacts = 2;          // grip contacts needed
   double balance_weight = 10.0;  // an unbalanced newton against a newton off the nominal squeeze
   double max_force_n = 2.5;      // per finger: what the servos hold
+  // N per axis the grip forces' sum may stray from the balance, left to friction (0: none):
+  // a pair slightly off facing each other keeps its squeeze instead of both being eased.
+  double friction_share_n = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -39,6 +42,7 @@ struct NormalsAimParams {
     a->Visit(DMPL_NVP(min_contacts), AtLeast(2));
     a->Visit(DMPL_NVP(balance_weight), Above(0));
     a->Visit(DMPL_NVP(max_force_n));
+    a->Visit(DMPL_NVP(friction_share_n), AtLeast(0));
   }
 };
 

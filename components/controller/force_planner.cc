@@ -145,13 +145,81 @@ std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vect
   return Eigen::Vector3d(a.ldlt().solve(b));
 }
 
+namespace {
+
+using BoundedMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using BoundedVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+
+// min w |U f - net|^2 + |f - nominal|^2 over the box [minimum_n, maximum_n]^n, i.e.
+// min f'H f / 2 - b'f with H = w U'U + I (positive definite) and b = w U' net + nominal. Each
+// force is free, at its minimum or at its maximum; for an assignment the free forces solve their
+// rows of H f = b, and the first assignment whose free forces lie in the box and whose bound
+// forces are held there by the gradient (the KKT conditions) is the optimum of this convex
+// problem. The assignment with every force free comes first: in a balanced grasp it is the answer.
+BoundedVector SolveBounded(const Eigen::Matrix3Xd& u, const Eigen::Vector3d& net, double nominal_n,
+                           double minimum_n, double maximum_n, double balance_weight) {
+  const int n = static_cast<int>(u.cols());
+  const BoundedMatrix h = balance_weight * u.transpose() * u + BoundedMatrix::Identity(n, n);
+  const BoundedVector b =
+      balance_weight * u.transpose() * net + BoundedVector::Constant(n, nominal_n);
+  constexpr double kTolerance = 1e-9;
+  BoundedVector best = BoundedVector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
+  std::array<int, 6> state{};  // per force: 0 free, 1 at the minimum, 2 at the maximum
+  for (;;) {
+    BoundedVector f(n);
+    int free[6], m = 0;
+    for (int k = 0; k < n; ++k) {
+      if (state[k] == 0) {
+        free[m++] = k;
+      } else {
+        f[k] = state[k] == 1 ? minimum_n : maximum_n;
+      }
+    }
+    bool optimal = true;
+    if (m > 0) {
+      BoundedMatrix hf(m, m);
+      BoundedVector bf(m);
+      for (int i = 0; i < m; ++i) {
+        bf[i] = b[free[i]];
+        for (int k = 0; k < n; ++k) {
+          if (state[k] != 0) bf[i] -= h(free[i], k) * f[k];
+        }
+        for (int j = 0; j < m; ++j) hf(i, j) = h(free[i], free[j]);
+      }
+      const BoundedVector x = hf.ldlt().solve(bf);
+      for (int i = 0; i < m; ++i) {
+        f[free[i]] = x[i];
+        optimal = optimal && x[i] >= minimum_n - kTolerance && x[i] <= maximum_n + kTolerance;
+      }
+    }
+    if (optimal) {
+      const BoundedVector gradient = h * f - b;  // a force at its minimum must want to go lower,
+      for (int k = 0; k < n && optimal; ++k) {
+        if (state[k] == 1) optimal = gradient[k] >= -kTolerance;
+        if (state[k] == 2) optimal = gradient[k] <= kTolerance;  // ... at its maximum higher
+      }
+    }
+    if (optimal) {
+      best = f;
+      break;
+    }
+    int k = 0;
+    while (k < n && ++state[k] == 3) state[k++] = 0;
+    if (k == n) break;  // not reached for a convex problem; the clamped nominal stays
+  }
+  return best.cwiseMax(minimum_n).cwiseMin(maximum_n);
+}
+
+}  // namespace
+
 ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const std::vector<bool>& grip, const Eigen::Vector3d& aim,
                             double nominal_n, double minimum_n, double maximum_n,
                             const Eigen::Vector3d& net, double balance_weight,
-                            const Eigen::Vector3d& unbalanced_along) {
+                            const Eigen::Vector3d& unbalanced_along, double friction_share_n) {
   DMPL_DEMAND(contacts.size() == grip.size());
   DMPL_DEMAND(minimum_n <= nominal_n && nominal_n <= maximum_n && balance_weight > 0);
+  DMPL_DEMAND(friction_share_n >= 0);
   ForcePlan plan;
   plan.forces.resize(contacts.size());
   plan.centroid = aim;
@@ -172,64 +240,24 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   }
   const Eigen::Matrix3Xd pu = across * u;
   const Eigen::Vector3d pnet = across * net;
-  // min w |U f - net|^2 + |f - nominal|^2 over the box, i.e. min f'H f / 2 - b'f with
-  // H = w U'U + I (positive definite) and b = w U' net + nominal. Each force is free, at its
-  // minimum or at its maximum; for an assignment the free forces solve their rows of H f = b, and
-  // the first assignment whose free forces lie in the box and whose bound forces are held there
-  // by the gradient (the KKT conditions) is the optimum of this convex problem. The assignment
-  // with every force free comes first: in a balanced grasp it is the answer.
-  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-  const Matrix h = balance_weight * pu.transpose() * pu + Matrix::Identity(n, n);
-  const Vector b = balance_weight * pu.transpose() * pnet + Vector::Constant(n, nominal_n);
-  constexpr double kTolerance = 1e-9;
-  Vector best = Vector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
-  std::array<int, 6> state{};  // per force: 0 free, 1 at the minimum, 2 at the maximum
-  for (;;) {
-    Vector f(n);
-    int free[6], m = 0;
-    for (int k = 0; k < n; ++k) {
-      if (state[k] == 0) {
-        free[m++] = k;
-      } else {
-        f[k] = state[k] == 1 ? minimum_n : maximum_n;
-      }
-    }
-    bool optimal = true;
-    if (m > 0) {
-      Matrix hf(m, m);
-      Vector bf(m);
-      for (int i = 0; i < m; ++i) {
-        bf[i] = b[free[i]];
-        for (int k = 0; k < n; ++k) {
-          if (state[k] != 0) bf[i] -= h(free[i], k) * f[k];
-        }
-        for (int j = 0; j < m; ++j) hf(i, j) = h(free[i], free[j]);
-      }
-      const Vector x = hf.ldlt().solve(bf);
-      for (int i = 0; i < m; ++i) {
-        f[free[i]] = x[i];
-        optimal = optimal && x[i] >= minimum_n - kTolerance && x[i] <= maximum_n + kTolerance;
-      }
-    }
-    if (optimal) {
-      const Vector gradient = h * f - b;  // a force at its minimum must want to go lower, ...
-      for (int k = 0; k < n && optimal; ++k) {
-        if (state[k] == 1) optimal = gradient[k] >= -kTolerance;
-        if (state[k] == 2) optimal = gradient[k] <= kTolerance;  // ... at its maximum higher
-      }
-    }
-    if (optimal) {
-      best = f;
-      break;
-    }
-    int k = 0;
-    while (k < n && ++state[k] == 3) state[k++] = 0;
-    if (k == n) break;  // not reached for a convex problem; the clamped nominal stays
+  // What friction may carry: the plan balances toward the nearest net within friction_share_n of
+  // `net` on each axis, so a pair a few degrees off facing each other keeps its squeeze (friction
+  // holds the small sum of its pushes) while a push nothing opposes is still eased. Block
+  // coordinate descent over the forces and that target: each pass lowers the convex cost.
+  const Eigen::Vector3d share = Eigen::Vector3d::Constant(friction_share_n);
+  const BoundedVector nominal =
+      BoundedVector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
+  Eigen::Vector3d target = pnet + (pu * nominal - pnet).cwiseMax(-share).cwiseMin(share);
+  BoundedVector best = SolveBounded(pu, target, nominal_n, minimum_n, maximum_n, balance_weight);
+  constexpr int kPasses = 4;
+  for (int pass = 1; friction_share_n > 0 && pass < kPasses; ++pass) {
+    target = pnet + (pu * best - pnet).cwiseMax(-share).cwiseMin(share);
+    best = SolveBounded(pu, target, nominal_n, minimum_n, maximum_n, balance_weight);
   }
-  best = best.cwiseMax(minimum_n).cwiseMin(maximum_n);
   for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), best[k]};
-  plan.balanced = n >= 2 && (pu * best - pnet).norm() <= 0.01 * pnet.norm() + 1e-3;
+  const Eigen::Vector3d residual = pu * best - pnet;
+  const Eigen::Vector3d beyond = (residual.cwiseAbs() - share).cwiseMax(0.0);
+  plan.balanced = n >= 2 && beyond.norm() <= 0.01 * pnet.norm() + 1e-3;
   return plan;
 }
 

@@ -47,11 +47,14 @@ std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vect
 // cancelled by weakening the whole grip. Bounded least squares over a few fingers, solved exactly
 // by trying every set of active bounds. `balanced` when the sum is within 1 % (+ 1 mN) of `net`.
 // Along `unbalanced_along` (if not zero) no balance is sought: what the sum lacks there is left
-// to friction (gravity, when the squeeze is sized for the load).
+// to friction (gravity, when the squeeze is sized for the load). With `friction_share_n` > 0 the
+// sum is sought anywhere within that much of `net` on each axis: what is left is friction's, so
+// a pair a few degrees off facing each other keeps its squeeze; `balanced` counts that box.
 ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const std::vector<bool>& grip, const Eigen::Vector3d& aim,
                             double nominal_n, double minimum_n, double maximum_n,
                             const Eigen::Vector3d& net, double balance_weight = 1e4,
-                            const Eigen::Vector3d& unbalanced_along = Eigen::Vector3d::Zero());
+                            const Eigen::Vector3d& unbalanced_along = Eigen::Vector3d::Zero(),
+                            double friction_share_n = 0.0);
 
 }  // namespace dmpl

@@ -557,7 +557,8 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
     if (const auto meet = NormalsMeetingPoint(contacts, normals, in_grip, fallback)) {
       bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
                                   std::min(minimum, params_.explore_force_n), max_force, -external,
-                                  params_.normals_aim.balance_weight, gravity_);
+                                  params_.normals_aim.balance_weight, gravity_,
+                                  params_.normals_aim.friction_share_n);
     }
   }
   const double squeezed_minimum = minimum * (squeeze / grip_force);

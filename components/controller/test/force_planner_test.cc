@@ -249,5 +249,37 @@ TEST(PlanBoundedForcesTest, ALoneFingerIsKeptLightAndGravityIsLeftToFriction) {
   EXPECT_TRUE(weighed.balanced);  // across gravity, which is all it was asked
 }
 
+TEST(PlanBoundedForcesTest, APairSlightlyOffFacingKeepsItsSqueezeWhenFrictionTakesASmallShare) {
+  // The thumb explores; the middle finger across from it has no opposite; the fore and ring
+  // fingers face each other 4 deg off the line between them, both leaning toward the palm (-x),
+  // so their pushes at 2 N add 0.28 N along -x. Balanced exactly, the pair has to go down to its
+  // minimum; with 0.3 N a side left to friction it keeps its squeeze and the middle finger is
+  // still eased.
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  const double r = 0.025, lean = 4.0 * M_PI / 180.0;
+  const std::vector<Eigen::Vector3d> c = {
+      centre + Eigen::Vector3d(0, 0, -r),
+      centre + r * Eigen::Vector3d(std::sin(lean), std::cos(lean), 0),
+      centre + Eigen::Vector3d(0, 0, r),
+      centre + r * Eigen::Vector3d(std::sin(lean), -std::cos(lean), 0)};
+  const std::vector<bool> grip = {false, true, true, true};
+  const Eigen::Vector3d none = Eigen::Vector3d::Zero();
+  const ForcePlan exact = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, 0.0);
+  const ForcePlan shared = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, 0.3);
+  EXPECT_LT(exact.forces[1].magnitude, 0.11);
+  EXPECT_LT(exact.forces[2].magnitude, 0.11);
+  EXPECT_GT(shared.forces[1].magnitude, 1.99);
+  EXPECT_NEAR(shared.forces[1].magnitude, shared.forces[3].magnitude, 1e-9);
+  EXPECT_LT(shared.forces[2].magnitude, 0.31);  // the middle finger's unopposed push
+  EXPECT_EQ(shared.forces[0].magnitude, 0.0);   // the explorer takes no part
+  EXPECT_TRUE(shared.balanced);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& f : shared.forces) sum += f.magnitude * f.direction;
+  EXPECT_LE(sum.cwiseAbs().maxCoeff(), 0.3 + 1e-3) << "no more than friction's share";
+  // Without the share the default arguments give the same plan as a share of 0.
+  const ForcePlan defaults = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(defaults.forces[k].magnitude, exact.forces[k].magnitude);
+}
+
 }  // namespace
 }  // namespace dmpl
