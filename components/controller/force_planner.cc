@@ -163,7 +163,8 @@ BoundedVector SolveBounded(const Eigen::Matrix3Xd& u, const Eigen::Vector3d& net
   const BoundedVector b =
       balance_weight * u.transpose() * net + BoundedVector::Constant(n, nominal_n);
   constexpr double kTolerance = 1e-9;
-  BoundedVector best = BoundedVector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
+  BoundedVector best =
+      BoundedVector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
   std::array<int, 6> state{};  // per force: 0 free, 1 at the minimum, 2 at the maximum
   for (;;) {
     BoundedVector f(n);
