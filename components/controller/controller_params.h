@@ -35,6 +35,14 @@ struct NormalsAimParams {
   // N per axis the grip forces' sum may stray from the balance, left to friction (0: none):
   // a pair slightly off facing each other keeps its squeeze instead of both being eased.
   double friction_share_n = 0.0;
+  // With this > 0 (a friction coefficient) the grip forces add up along gravity to what the
+  // plan asks there (the learned load, the position spring) within what the contacts' friction
+  // can carry along it, instead of leaving all of it to friction: a finger on top pushing down
+  // is eased, or the one below pushes up for it, when the others cannot hold it by friction.
+  double friction_along_gravity = 0.0;
+  // ... and what the plan asks there: what the tips' pushes held up, low-passed this slowly.
+  double held_time_constant_s = 0.1;
+  double level_push_sine = 0.5;  // a push within asin of this of level: its own friction's
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -43,6 +51,9 @@ struct NormalsAimParams {
     a->Visit(DMPL_NVP(balance_weight), Above(0));
     a->Visit(DMPL_NVP(max_force_n));
     a->Visit(DMPL_NVP(friction_share_n), AtLeast(0));
+    a->Visit(DMPL_NVP(friction_along_gravity), AtLeast(0));
+    a->Visit(DMPL_NVP(held_time_constant_s), AtLeast(0));
+    a->Visit(DMPL_NVP(level_push_sine), InRange(0, 1));
   }
 };
 

@@ -217,10 +217,10 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const std::vector<bool>& grip, const Eigen::Vector3d& aim,
                             double nominal_n, double minimum_n, double maximum_n,
                             const Eigen::Vector3d& net, double balance_weight,
-                            const Eigen::Vector3d& unbalanced_along, double friction_share_n) {
+                            const Eigen::Vector3d& unbalanced_along, const FrictionShare& share) {
   DMPL_DEMAND(contacts.size() == grip.size());
   DMPL_DEMAND(minimum_n <= nominal_n && nominal_n <= maximum_n && balance_weight > 0);
-  DMPL_DEMAND(friction_share_n >= 0);
+  DMPL_DEMAND(share.across_n >= 0 && share.along_friction >= 0);
   ForcePlan plan;
   plan.forces.resize(contacts.size());
   plan.centroid = aim;
@@ -233,31 +233,55 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   DMPL_DEMAND(n <= 6);  // at most 3^n active sets, of at most 6 x 6
   Eigen::Matrix3Xd u(3, n);
   for (int k = 0; k < n; ++k) u.col(k) = (aim - contacts[idx[k]]).normalized();
-  // The balance is weighed across `unbalanced_along` only (left to friction and the squeeze).
+  // The balance is weighed across `unbalanced_along` only (left to friction and the squeeze),
+  // unless friction's share along it is bounded too.
   Eigen::Matrix3d across = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
   if (unbalanced_along.norm() > 0) {
-    const Eigen::Vector3d a = unbalanced_along.normalized();
-    across -= a * a.transpose();
+    g = unbalanced_along.normalized();
+    across -= g * g.transpose();
   }
-  const Eigen::Matrix3Xd pu = across * u;
-  const Eigen::Vector3d pnet = across * net;
-  // What friction may carry: the plan balances toward the nearest net within friction_share_n of
-  // `net` on each axis, so a pair a few degrees off facing each other keeps its squeeze (friction
-  // holds the small sum of its pushes) while a push nothing opposes is still eased. Block
-  // coordinate descent over the forces and that target: each pass lowers the convex cost.
-  const Eigen::Vector3d share = Eigen::Vector3d::Constant(friction_share_n);
+  const bool along = share.along_friction > 0 && g.norm() > 0;
+  const Eigen::Matrix3Xd pu = along ? u : Eigen::Matrix3Xd(across * u);
+  const Eigen::Vector3d pnet = along ? net : Eigen::Vector3d(across * net);
+  // What friction may carry: the plan balances toward the nearest net friction can make up, so
+  // a pair a few degrees off facing each other keeps its squeeze (friction holds the small sum
+  // of its pushes) while a push nothing opposes is still eased. Across `unbalanced_along`:
+  // share.across_n on each axis. Along it: what the contacts' friction can give there, each
+  // push times the coefficient times the part of its cone's plane along it (a finger pushing
+  // along gravity gives none: the weight it adds must be carried by a push the other way).
+  // Block coordinate descent over the forces and that target: each pass lowers the cost.
+  const Eigen::Vector3d box = Eigen::Vector3d::Constant(share.across_n);
+  const auto room_along = [&](const BoundedVector& f) {
+    double room = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double along_g = std::abs(u.col(k).dot(g));
+      room += f[k] * (along_g <= share.level_sine ? along_g
+                                                  : share.along_friction * u.col(k).cross(g).norm());
+    }
+    return room;
+  };
+  const auto nearest_target = [&](const BoundedVector& f) {
+    const Eigen::Vector3d r = pu * f - pnet;
+    Eigen::Vector3d target = pnet + (across * r).cwiseMax(-box).cwiseMin(box);
+    if (along) {
+      const double room = room_along(f);
+      target += std::clamp(g.dot(r), -room, room) * g;
+    }
+    return target;
+  };
   const BoundedVector nominal =
       BoundedVector::Constant(n, nominal_n).cwiseMax(minimum_n).cwiseMin(maximum_n);
-  Eigen::Vector3d target = pnet + (pu * nominal - pnet).cwiseMax(-share).cwiseMin(share);
-  BoundedVector best = SolveBounded(pu, target, nominal_n, minimum_n, maximum_n, balance_weight);
+  BoundedVector best =
+      SolveBounded(pu, nearest_target(nominal), nominal_n, minimum_n, maximum_n, balance_weight);
   constexpr int kPasses = 4;
-  for (int pass = 1; friction_share_n > 0 && pass < kPasses; ++pass) {
-    target = pnet + (pu * best - pnet).cwiseMax(-share).cwiseMin(share);
-    best = SolveBounded(pu, target, nominal_n, minimum_n, maximum_n, balance_weight);
+  for (int pass = 1; (share.across_n > 0 || along) && pass < kPasses; ++pass) {
+    best = SolveBounded(pu, nearest_target(best), nominal_n, minimum_n, maximum_n, balance_weight);
   }
   for (int k = 0; k < n; ++k) plan.forces[idx[k]] = {u.col(k), best[k]};
   const Eigen::Vector3d residual = pu * best - pnet;
-  const Eigen::Vector3d beyond = (residual.cwiseAbs() - share).cwiseMax(0.0);
+  Eigen::Vector3d beyond = ((across * residual).cwiseAbs() - box).cwiseMax(0.0);
+  if (along) beyond += std::max(0.0, std::abs(g.dot(residual)) - room_along(best)) * g.cwiseAbs();
   plan.balanced = n >= 2 && beyond.norm() <= 0.01 * pnet.norm() + 1e-3;
   return plan;
 }

@@ -47,14 +47,23 @@ std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vect
 // cancelled by weakening the whole grip. Bounded least squares over a few fingers, solved exactly
 // by trying every set of active bounds. `balanced` when the sum is within 1 % (+ 1 mN) of `net`.
 // Along `unbalanced_along` (if not zero) no balance is sought: what the sum lacks there is left
-// to friction (gravity, when the squeeze is sized for the load). With `friction_share_n` > 0 the
-// sum is sought anywhere within that much of `net` on each axis: what is left is friction's, so
-// a pair a few degrees off facing each other keeps its squeeze; `balanced` counts that box.
+// to friction (gravity, when the squeeze is sized for the load). With a friction share the sum
+// is sought anywhere within what friction can make up (FrictionShare); `balanced` counts it.
+struct FrictionShare {
+  // N on each axis the sum may stray from `net` across `unbalanced_along`: a pair a few degrees
+  // off facing each other keeps its squeeze.
+  double across_n = 0.0;
+  // With this > 0 the sum is balanced along `unbalanced_along` too, within what friction gives
+  // there: this coefficient times each push times the sine of its angle to that direction.
+  double along_friction = 0.0;
+  // A push within asin(level_sine) of level is left to friction along it all the same.
+  double level_sine = 0.0;
+};
 ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const std::vector<bool>& grip, const Eigen::Vector3d& aim,
                             double nominal_n, double minimum_n, double maximum_n,
                             const Eigen::Vector3d& net, double balance_weight = 1e4,
                             const Eigen::Vector3d& unbalanced_along = Eigen::Vector3d::Zero(),
-                            double friction_share_n = 0.0);
+                            const FrictionShare& share = {});
 
 }  // namespace dmpl

@@ -544,6 +544,20 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
                          max_force);
     }
   }
+  if (params_.normals_aim.friction_along_gravity > 0) {
+    // What the contacts' pushes hold up now, read from the tactile sensors: where friction
+    // cannot carry the weight, the pushes below carry it and this reads it; the grip forces are
+    // then planned to keep holding it (low-passed: an explore's jolt is not a weight).
+    double held = 0.0;
+    for (int f = 0; f < nf; ++f) {
+      if (fingers_[f].contact && normals[f].allFinite()) {
+        held += in.tips[f].force * normals[f].dot(-gravity_);
+      }
+    }
+    const double a = dt_ / (params_.normals_aim.held_time_constant_s + dt_);
+    held_n_ += a * (std::clamp(held, 0.0, params_.normals_aim.max_force_n) - held_n_);
+    external += held_n_ * gravity_;
+  }
   std::optional<ForcePlan> bounded;
   if (params_.normals_aim.enabled && !aim && grip_contacts >= params_.normals_aim.min_contacts) {
     // Where the lines leave the point free: the estimate, else the grip contacts' centroid.
@@ -558,7 +572,9 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
       bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
                                   std::min(minimum, params_.explore_force_n), max_force, -external,
                                   params_.normals_aim.balance_weight, gravity_,
-                                  params_.normals_aim.friction_share_n);
+                                  {params_.normals_aim.friction_share_n,
+                                   params_.normals_aim.friction_along_gravity,
+                                   params_.normals_aim.level_push_sine});
     }
   }
   const double squeezed_minimum = minimum * (squeeze / grip_force);

@@ -127,6 +127,7 @@ class ManipulationController {
   std::vector<Eigen::Vector3d> tip_axes_;  // each fingertip's axis this tick (palm frame)
   GripAdapter grip_;
   LoadEstimator load_;
+  double held_n_ = 0.0;  // what the pushes hold up against gravity (normals_aim), low-passed
   Eigen::Vector3d gravity_ = Eigen::Vector3d::Zero();  // its direction in the palm frame (IMU)
   bool has_gravity_ = false;
   int last_grip_set_ = 0;  // bit f: finger f grips (the load's seat restarts when it changes)

@@ -264,8 +264,8 @@ TEST(PlanBoundedForcesTest, APairSlightlyOffFacingKeepsItsSqueezeWhenFrictionTak
       centre + r * Eigen::Vector3d(std::sin(lean), -std::cos(lean), 0)};
   const std::vector<bool> grip = {false, true, true, true};
   const Eigen::Vector3d none = Eigen::Vector3d::Zero();
-  const ForcePlan exact = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, 0.0);
-  const ForcePlan shared = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, 0.3);
+  const ForcePlan exact = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, {0.0, 0.0, 0.0});
+  const ForcePlan shared = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, {0.3, 0.0, 0.0});
   EXPECT_LT(exact.forces[1].magnitude, 0.11);
   EXPECT_LT(exact.forces[2].magnitude, 0.11);
   EXPECT_GT(shared.forces[1].magnitude, 1.99);
@@ -279,6 +279,71 @@ TEST(PlanBoundedForcesTest, APairSlightlyOffFacingKeepsItsSqueezeWhenFrictionTak
   // Without the share the default arguments give the same plan as a share of 0.
   const ForcePlan defaults = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none);
   for (int k = 0; k < 4; ++k) EXPECT_EQ(defaults.forces[k].magnitude, exact.forces[k].magnitude);
+}
+
+// The weight along gravity: a finger below the object, one on top, one at its side (the fourth
+// explores), the palm sideways. Left to friction (the plan of before) the finger on top pushes
+// down as hard as the one below pushes up and the side finger's friction would have to carry the
+// whole weight; with the balance along gravity within friction's share, the pushes hold it.
+TEST(PlanBoundedForcesTest, ThePushesCarryTheWeightWhereFrictionCannot) {
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  const double r = 0.025;
+  for (const Eigen::Vector3d& gravity : {Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, -1, 0),
+                                         Eigen::Vector3d(1, 1, -1).normalized()}) {
+    const Eigen::Vector3d up = -gravity;
+    const Eigen::Vector3d side = up.unitOrthogonal();
+    // Below (pushes up), at the side, on top (pushes down), exploring.
+    const std::vector<Eigen::Vector3d> c = {centre - r * up, centre + r * side, centre + r * up,
+                                            centre - r * side};
+    const std::vector<bool> grip = {true, true, true, false};
+    const double weight = 1.96;  // 200 g
+    const Eigen::Vector3d held = weight * up;
+    const ForcePlan left = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, held, 10.0, gravity);
+    const FrictionShare share{0.0, 0.05, 0.5};
+    // The balance exact (a large weight), and as the controller weighs it (10).
+    const ForcePlan carried =
+        PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, held, 1e4, gravity, share);
+    const ForcePlan weighed =
+        PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, held, 10.0, gravity, share);
+    const auto along_up = [&](const ForcePlan& plan) {
+      double sum = 0.0;
+      for (const auto& f : plan.forces) sum += f.magnitude * f.direction.dot(up);
+      return sum;
+    };
+    EXPECT_LT(along_up(left), 0.2) << "left to friction, the pushes hold nothing up";
+    // The pair along gravity has no friction along it, and the level side finger's push has no
+    // part along it to leave to its friction: the pushes hold all of the weight.
+    EXPECT_NEAR(along_up(carried), weight, 1e-3);
+    EXPECT_GT(along_up(weighed), 1.5);
+    EXPECT_GT(weighed.forces[0].magnitude - weighed.forces[2].magnitude, 1.5);
+    for (const auto& f : carried.forces) EXPECT_LE(f.magnitude, 2.5 + 1e-9);
+  }
+}
+
+// Pushes near level that lean a little along gravity (contacts a few millimetres off the
+// equator, palm down) are their own friction's: the balance along gravity does not ease them.
+TEST(PlanBoundedForcesTest, LevelPushesLeaningAlongGravityKeepTheirSqueeze) {
+  const Eigen::Vector3d centre(0.07, 0.0, 0.015);
+  std::vector<Eigen::Vector3d> c, n;
+  SphereContacts(0.25, &c, &n, centre, 4);  // 0.25 rad toward the palm off the equator
+  const Eigen::Vector3d gravity(1, 0, 0);     // palm down: away from the palm
+  const std::vector<bool> grip(4, true);
+  const ForcePlan left = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5,
+                                           Eigen::Vector3d::Zero(), 10.0, gravity);
+  const ForcePlan carried = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5,
+                                              Eigen::Vector3d::Zero(), 10.0, gravity,
+                                              FrictionShare{0.0, 0.05, 0.5});
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(carried.forces[k].magnitude, left.forces[k].magnitude, 1e-6);
+    EXPECT_NEAR(carried.forces[k].magnitude, 2.0, 1e-6);
+  }
+  // Leaning further (0.7 rad: steeper than asin 0.5) they are eased toward the balance.
+  std::vector<Eigen::Vector3d> steep, steep_n;
+  SphereContacts(0.7, &steep, &steep_n, centre, 4);
+  const ForcePlan eased = PlanBoundedForces(steep, grip, centre, 2.0, 0.1, 2.5,
+                                            Eigen::Vector3d::Zero(), 10.0, gravity,
+                                            FrictionShare{0.0, 0.05, 0.5});
+  for (int k = 0; k < 4; ++k) EXPECT_LT(eased.forces[k].magnitude, 1.0);
 }
 
 }  // namespace
