@@ -544,10 +544,10 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
                          max_force);
     }
   }
-  if (params_.normals_aim.friction_along_gravity > 0) {
-    // What the contacts' pushes hold up now, read from the tactile sensors: where friction
-    // cannot carry the weight, the pushes below carry it and this reads it; the grip forces are
-    // then planned to keep holding it (low-passed: an explore's jolt is not a weight).
+  // What the contacts' pushes hold up now, read from the tactile sensors: where friction cannot
+  // carry the weight, the pushes below carry it and this reads it; the bounded plan then keeps
+  // holding it (low-passed: an explore's jolt is not a weight).
+  if (params_.normals_aim.enabled && params_.normals_aim.friction_along_gravity > 0) {
     double held = 0.0;
     for (int f = 0; f < nf; ++f) {
       if (fingers_[f].contact && normals[f].allFinite()) {
@@ -556,7 +556,6 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
     }
     const double a = dt_ / (params_.normals_aim.held_time_constant_s + dt_);
     held_n_ += a * (std::clamp(held, 0.0, params_.normals_aim.max_force_n) - held_n_);
-    external += held_n_ * gravity_;
   }
   std::optional<ForcePlan> bounded;
   if (params_.normals_aim.enabled && !aim && grip_contacts >= params_.normals_aim.min_contacts) {
@@ -570,7 +569,8 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
     }
     if (const auto meet = NormalsMeetingPoint(contacts, normals, in_grip, fallback)) {
       bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
-                                  std::min(minimum, params_.explore_force_n), max_force, -external,
+                                  std::min(minimum, params_.explore_force_n), max_force,
+                                  -external - held_n_ * gravity_,
                                   params_.normals_aim.balance_weight, gravity_,
                                   {params_.normals_aim.friction_share_n,
                                    params_.normals_aim.friction_along_gravity,
