@@ -43,6 +43,9 @@ struct NormalsAimParams {
   // ... and what the plan asks there: what the tips' pushes held up, low-passed this slowly.
   double held_time_constant_s = 0.1;
   double level_push_sine = 0.5;  // a push within asin of this of level: its own friction's
+  // ... once the palm's normal is this far from up (rad): palm up the palm cradles the object
+  // and the level contacts' friction carries it (measured: docs/benchmarks.md, stop 42).
+  double gravity_balance_from_rad = 0.7853981633974483;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -54,6 +57,7 @@ struct NormalsAimParams {
     a->Visit(DMPL_NVP(friction_along_gravity), AtLeast(0));
     a->Visit(DMPL_NVP(held_time_constant_s), AtLeast(0));
     a->Visit(DMPL_NVP(level_push_sine), InRange(0, 1));
+    a->Visit(DMPL_NVP(gravity_balance_from_rad), InRange(0, 3.141592653589793));
   }
 };
 

@@ -547,7 +547,13 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
   // What the contacts' pushes hold up now, read from the tactile sensors: where friction cannot
   // carry the weight, the pushes below carry it and this reads it; the bounded plan then keeps
   // holding it (low-passed: an explore's jolt is not a weight).
-  if (params_.normals_aim.enabled && params_.normals_aim.friction_along_gravity > 0) {
+  // Palm up (its normal, the palm frame's x, within gravity_balance_from_rad of up) the
+  // fingers' level contacts carry the weight by friction and the palm cradles it: the pushes are
+  // planned as before.
+  const bool balance_gravity =
+      params_.normals_aim.enabled && params_.normals_aim.friction_along_gravity > 0 &&
+      -gravity_.x() < std::cos(params_.normals_aim.gravity_balance_from_rad);
+  if (balance_gravity) {
     double held = 0.0;
     for (int f = 0; f < nf; ++f) {
       if (fingers_[f].contact && normals[f].allFinite()) {
@@ -570,10 +576,11 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
     if (const auto meet = NormalsMeetingPoint(contacts, normals, in_grip, fallback)) {
       bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
                                   std::min(minimum, params_.explore_force_n), max_force,
-                                  -external - held_n_ * gravity_,
+                                  -external - (balance_gravity ? held_n_ : 0.0) * gravity_,
                                   params_.normals_aim.balance_weight, gravity_,
                                   {params_.normals_aim.friction_share_n,
-                                   params_.normals_aim.friction_along_gravity,
+                                   balance_gravity ? params_.normals_aim.friction_along_gravity
+                                                   : 0.0,
                                    params_.normals_aim.level_push_sine});
     }
   }
