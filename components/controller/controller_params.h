@@ -42,7 +42,7 @@ struct NormalsAimParams {
   double friction_along_gravity = 0.0;
   // ... and what the plan asks there: what the tips' pushes held up, low-passed this slowly.
   double held_time_constant_s = 0.1;
-  double level_push_sine = 0.5;  // a push within asin of this of level: its own friction's
+  double level_push_sine = 0.7;  // a push within asin of this of level: its own friction's
   // ... once the palm's normal is this far from up (rad): palm up the palm cradles the object
   // and the level contacts' friction carries it (measured: docs/benchmarks.md, stop 42).
   double gravity_balance_from_rad = 0.7853981633974483;
