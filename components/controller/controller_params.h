@@ -36,14 +36,14 @@ struct NormalsAimParams {
   // a pair slightly off facing each other keeps its squeeze instead of both being eased.
   double friction_share_n = 0.0;
   // With this > 0 (a friction coefficient) the grip forces add up along gravity to what the
-  // plan asks there (the learned load, the position spring) within what the contacts' friction
-  // can carry along it, instead of leaving all of it to friction: a finger on top pushing down
-  // is eased, or the one below pushes up for it, when the others cannot hold it by friction.
+  // tips' pushes held up (the tactile forces along their normals, low-passed), within what the
+  // contacts' friction carries there, instead of leaving all of it to friction: a finger on top
+  // pushing down is eased, or the one below pushes up for it, when the others cannot hold the
+  // weight by friction. A steep push's friction counts this coefficient times its push.
   double friction_along_gravity = 0.0;
-  // ... and what the plan asks there: what the tips' pushes held up, low-passed this slowly.
-  double held_time_constant_s = 0.1;
-  double level_push_sine = 0.7;  // a push within asin of this of level: its own friction's
-  // ... once the palm's normal is this far from up (rad): palm up the palm cradles the object
+  double held_time_constant_s = 0.1;  // s: the low-pass of what the pushes held up
+  double level_push_sine = 0.7;  // a push within asin(this) of level carries its own part
+  // Only once the palm's normal is this far from up (rad): palm up the palm cradles the object
   // and the level contacts' friction carries it (measured: docs/benchmarks.md, stop 42).
   double gravity_balance_from_rad = 0.7853981633974483;
 

@@ -247,17 +247,17 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   // What friction may carry: the plan balances toward the nearest net friction can make up, so
   // a pair a few degrees off facing each other keeps its squeeze (friction holds the small sum
   // of its pushes) while a push nothing opposes is still eased. Across `unbalanced_along`:
-  // share.across_n on each axis. Along it: what the contacts' friction can give there, each
-  // push times the coefficient times the part of its cone's plane along it (a finger pushing
-  // along gravity gives none: the weight it adds must be carried by a push the other way).
-  // Block coordinate descent over the forces and that target: each pass lowers the cost.
+  // share.across_n on each axis. Along it: a near-level push's own part along it (its friction
+  // carries that), and a steeper push's coefficient times its push and its sine to it (a finger
+  // pushing along gravity gives none: the weight it adds must be carried by a push the other
+  // way). Block coordinate descent over the forces and that target: each pass lowers the cost.
   const Eigen::Vector3d box = Eigen::Vector3d::Constant(share.across_n);
   const auto room_along = [&](const BoundedVector& f) {
     double room = 0.0;
     for (int k = 0; k < n; ++k) {
       const double along_g = std::abs(u.col(k).dot(g));
-      room += f[k] * (along_g <= share.level_sine ? along_g
-                                                  : share.along_friction * u.col(k).cross(g).norm());
+      const double steep = share.along_friction * u.col(k).cross(g).norm();
+      room += f[k] * (along_g <= share.level_sine ? along_g : steep);
     }
     return room;
   };

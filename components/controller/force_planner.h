@@ -54,9 +54,9 @@ struct FrictionShare {
   // off facing each other keeps its squeeze.
   double across_n = 0.0;
   // With this > 0 the sum is balanced along `unbalanced_along` too, within what friction gives
-  // there: this coefficient times each push times the sine of its angle to that direction.
+  // there: a push within asin(level_sine) of level (perpendicular to it) carries its own part
+  // along it; a steeper one this coefficient times the push and the sine of its angle to it.
   double along_friction = 0.0;
-  // A push within asin(level_sine) of level is left to friction along it all the same.
   double level_sine = 0.0;
 };
 ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,

@@ -546,10 +546,9 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
   }
   // What the contacts' pushes hold up now, read from the tactile sensors: where friction cannot
   // carry the weight, the pushes below carry it and this reads it; the bounded plan then keeps
-  // holding it (low-passed: an explore's jolt is not a weight).
-  // Palm up (its normal, the palm frame's x, within gravity_balance_from_rad of up) the
-  // fingers' level contacts carry the weight by friction and the palm cradles it: the pushes are
-  // planned as before.
+  // holding it (low-passed: an explore's jolt is not a weight). Only once the palm (its normal,
+  // the palm frame's x) faces away from up: palm up the palm cradles the object and the level
+  // contacts' friction carries it, and the plan is the one of before.
   const bool balance_gravity =
       params_.normals_aim.enabled && params_.normals_aim.friction_along_gravity > 0 &&
       -gravity_.x() < std::cos(params_.normals_aim.gravity_balance_from_rad);

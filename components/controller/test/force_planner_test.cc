@@ -264,8 +264,10 @@ TEST(PlanBoundedForcesTest, APairSlightlyOffFacingKeepsItsSqueezeWhenFrictionTak
       centre + r * Eigen::Vector3d(std::sin(lean), -std::cos(lean), 0)};
   const std::vector<bool> grip = {false, true, true, true};
   const Eigen::Vector3d none = Eigen::Vector3d::Zero();
-  const ForcePlan exact = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, {0.0, 0.0, 0.0});
-  const ForcePlan shared = PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, {0.3, 0.0, 0.0});
+  const ForcePlan exact =
+      PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, FrictionShare{});
+  const ForcePlan shared =
+      PlanBoundedForces(c, grip, centre, 2.0, 0.1, 2.5, none, 1e4, none, FrictionShare{0.3});
   EXPECT_LT(exact.forces[1].magnitude, 0.11);
   EXPECT_LT(exact.forces[2].magnitude, 0.11);
   EXPECT_GT(shared.forces[1].magnitude, 1.99);
