@@ -252,13 +252,15 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
   // pushing along gravity gives none: the weight it adds must be carried by a push the other
   // way). Block coordinate descent over the forces and that target: each pass lowers the cost.
   const Eigen::Vector3d box = Eigen::Vector3d::Constant(share.across_n);
+  BoundedVector room_per_n = BoundedVector::Zero(n);  // friction's room along g per newton
+  for (int k = 0; along && k < n; ++k) {
+    const double along_g = std::abs(u.col(k).dot(g));
+    const double steep = share.along_friction * u.col(k).cross(g).norm();
+    room_per_n[k] = along_g <= share.level_sine ? along_g : steep;
+  }
   const auto room_along = [&](const BoundedVector& f) {
     double room = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const double along_g = std::abs(u.col(k).dot(g));
-      const double steep = share.along_friction * u.col(k).cross(g).norm();
-      room += f[k] * (along_g <= share.level_sine ? along_g : steep);
-    }
+    for (int k = 0; k < n; ++k) room += f[k] * room_per_n[k];
     return room;
   };
   const auto nearest_target = [&](const BoundedVector& f) {

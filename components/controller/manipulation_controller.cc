@@ -562,6 +562,10 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
     const double a = dt_ / (params_.normals_aim.held_time_constant_s + dt_);
     held_n_ += a * (std::clamp(held, 0.0, params_.normals_aim.max_force_n) - held_n_);
   }
+  const FrictionShare share{
+      params_.normals_aim.friction_share_n,
+      balance_gravity ? params_.normals_aim.friction_along_gravity : 0.0,
+      params_.normals_aim.level_push_sine};
   std::optional<ForcePlan> bounded;
   if (params_.normals_aim.enabled && !aim && grip_contacts >= params_.normals_aim.min_contacts) {
     // Where the lines leave the point free: the estimate, else the grip contacts' centroid.
@@ -576,11 +580,7 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
       bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
                                   std::min(minimum, params_.explore_force_n), max_force,
                                   -external - (balance_gravity ? held_n_ : 0.0) * gravity_,
-                                  params_.normals_aim.balance_weight, gravity_,
-                                  {params_.normals_aim.friction_share_n,
-                                   balance_gravity ? params_.normals_aim.friction_along_gravity
-                                                   : 0.0,
-                                   params_.normals_aim.level_push_sine});
+                                  params_.normals_aim.balance_weight, gravity_, share);
     }
   }
   const double squeezed_minimum = minimum * (squeeze / grip_force);
