@@ -46,6 +46,12 @@ struct NormalsAimParams {
   // Only once the palm's normal is this far from up (rad): palm up the palm cradles the object
   // and the level contacts' friction carries it (measured: docs/benchmarks.md, stop 42).
   double gravity_balance_from_rad = 0.7853981633974483;
+  // A grip force leans at most this far from its contact's normal toward where the normals meet
+  // (rad; pi: never clamped): a tip pushes within its friction cone or slides, and where the
+  // normals do not meet in the object (a pinch across a capsule's side, a push on its cap) the
+  // aim lies behind a contact (force_planner.h: AimWithinCones). 0.35 rad is the cone of
+  // friction 0.36, below the slickest object benchmarked (0.4); on a sphere nothing is clamped.
+  double max_off_normal_rad = 0.35;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -58,6 +64,7 @@ struct NormalsAimParams {
     a->Visit(DMPL_NVP(held_time_constant_s), AtLeast(0));
     a->Visit(DMPL_NVP(level_push_sine), InRange(0, 1));
     a->Visit(DMPL_NVP(gravity_balance_from_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(max_off_normal_rad), InRange(0, 3.141592653589793));
   }
 };
 

@@ -219,20 +219,63 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const Eigen::Vector3d& net, double balance_weight,
                             const Eigen::Vector3d& unbalanced_along, const FrictionShare& share) {
   DMPL_DEMAND(contacts.size() == grip.size());
+  std::vector<Eigen::Vector3d> directions(contacts.size(), Eigen::Vector3d::Zero());
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    if ((aim - contacts[i]).norm() > 1e-9) directions[i] = (aim - contacts[i]).normalized();
+  }
+  return PlanBoundedForcesAlong(directions, grip, aim, nominal_n, minimum_n, maximum_n, net,
+                                balance_weight, unbalanced_along, share);
+}
+
+std::vector<Eigen::Vector3d> AimWithinCones(const std::vector<Eigen::Vector3d>& contacts,
+                                            const std::vector<Eigen::Vector3d>& normals,
+                                            const std::vector<bool>& grip,
+                                            const Eigen::Vector3d& aim, double max_off_normal_rad) {
+  DMPL_DEMAND(contacts.size() == grip.size() && normals.size() == grip.size());
+  DMPL_DEMAND(max_off_normal_rad >= 0);
+  std::vector<Eigen::Vector3d> directions(contacts.size(), Eigen::Vector3d::Zero());
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    const Eigen::Vector3d toward = aim - contacts[i];
+    if (!grip[i] || toward.norm() < 1e-9) continue;
+    directions[i] = toward.normalized();
+    if (!(normals[i].norm() > 0.5)) continue;
+    const Eigen::Vector3d n = normals[i].normalized();
+    const double off = std::atan2(directions[i].cross(n).norm(), directions[i].dot(n));
+    if (off <= max_off_normal_rad) continue;
+    // On the cone's edge, on the side of the aim; along the normal when the aim lies behind
+    // the contact's tangent plane (its side there says nothing of where the others push).
+    const Eigen::Vector3d side = directions[i] - directions[i].dot(n) * n;
+    directions[i] = off >= M_PI / 2 || side.norm() < 1e-6
+                        ? n
+                        : Eigen::Vector3d(std::cos(max_off_normal_rad) * n +
+                                          std::sin(max_off_normal_rad) * side.normalized());
+  }
+  return directions;
+}
+
+ForcePlan PlanBoundedForcesAlong(const std::vector<Eigen::Vector3d>& directions,
+                                 const std::vector<bool>& grip, const Eigen::Vector3d& centroid,
+                                 double nominal_n, double minimum_n, double maximum_n,
+                                 const Eigen::Vector3d& net, double balance_weight,
+                                 const Eigen::Vector3d& unbalanced_along,
+                                 const FrictionShare& share) {
+  DMPL_DEMAND(directions.size() == grip.size());
   DMPL_DEMAND(minimum_n <= nominal_n && nominal_n <= maximum_n && balance_weight > 0);
   DMPL_DEMAND(share.across_n >= 0 && share.along_friction >= 0);
   ForcePlan plan;
-  plan.forces.resize(contacts.size());
-  plan.centroid = aim;
+  plan.forces.resize(directions.size());
+  plan.centroid = centroid;
   std::vector<int> idx;
-  for (size_t i = 0; i < contacts.size(); ++i) {
-    if (grip[i] && (aim - contacts[i]).norm() > 1e-9) idx.push_back(static_cast<int>(i));
+  for (size_t i = 0; i < directions.size(); ++i) {
+    if (!grip[i] || directions[i].isZero()) continue;
+    DMPL_DEMAND(std::abs(directions[i].norm() - 1.0) < 1e-9);  // unit, as documented
+    idx.push_back(static_cast<int>(i));
   }
   const int n = static_cast<int>(idx.size());
   if (n == 0) return plan;
   DMPL_DEMAND(n <= 6);  // at most 3^n active sets, of at most 6 x 6
   Eigen::Matrix3Xd u(3, n);
-  for (int k = 0; k < n; ++k) u.col(k) = (aim - contacts[idx[k]]).normalized();
+  for (int k = 0; k < n; ++k) u.col(k) = directions[idx[k]];
   // The balance is weighed across `unbalanced_along` only (left to friction and the squeeze),
   // unless friction's share along it is bounded too.
   Eigen::Matrix3d across = Eigen::Matrix3d::Identity();

@@ -66,4 +66,25 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             const Eigen::Vector3d& unbalanced_along = Eigen::Vector3d::Zero(),
                             const FrictionShare& share = {});
 
+// The same plan along given force directions (unit, into the object; one per contact, used where
+// `grip` and not zero); `centroid` is reported as the plan's centre.
+ForcePlan PlanBoundedForcesAlong(const std::vector<Eigen::Vector3d>& directions,
+                                 const std::vector<bool>& grip, const Eigen::Vector3d& centroid,
+                                 double nominal_n, double minimum_n, double maximum_n,
+                                 const Eigen::Vector3d& net, double balance_weight = 1e4,
+                                 const Eigen::Vector3d& unbalanced_along = Eigen::Vector3d::Zero(),
+                                 const FrictionShare& share = {});
+
+// Each grip contact's direction toward `aim`, kept within `max_off_normal_rad` of its own normal
+// (unit, into the object): a tip pushes within its friction cone or slides. On a sphere the
+// normals meet at the centre and nothing is clamped; on an elongated object the least-squares
+// meeting point of a pinch across its side and a push on its cap lies outside it, behind one
+// of the contacts, and that contact pushes along its normal instead of pulling (an aim behind a
+// contact's tangent plane: along its normal; off by less: on the cone's edge toward the aim).
+// Contacts without a normal (zero) keep the direction toward `aim`.
+std::vector<Eigen::Vector3d> AimWithinCones(const std::vector<Eigen::Vector3d>& contacts,
+                                            const std::vector<Eigen::Vector3d>& normals,
+                                            const std::vector<bool>& grip,
+                                            const Eigen::Vector3d& aim, double max_off_normal_rad);
+
 }  // namespace dmpl

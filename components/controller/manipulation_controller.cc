@@ -577,10 +577,12 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
       fallback /= grip_contacts;
     }
     if (const auto meet = NormalsMeetingPoint(contacts, normals, in_grip, fallback)) {
-      bounded = PlanBoundedForces(contacts, in_grip, *meet, squeeze,
-                                  std::min(minimum, params_.explore_force_n), max_force,
-                                  -external - (balance_gravity ? held_n_ : 0.0) * gravity_,
-                                  params_.normals_aim.balance_weight, gravity_, share);
+      const std::vector<Eigen::Vector3d> directions = AimWithinCones(
+          contacts, normals, in_grip, *meet, params_.normals_aim.max_off_normal_rad);
+      bounded = PlanBoundedForcesAlong(directions, in_grip, *meet, squeeze,
+                                       std::min(minimum, params_.explore_force_n), max_force,
+                                       -external - (balance_gravity ? held_n_ : 0.0) * gravity_,
+                                       params_.normals_aim.balance_weight, gravity_, share);
     }
   }
   const double squeezed_minimum = minimum * (squeeze / grip_force);

@@ -249,6 +249,49 @@ TEST(PlanBoundedForcesTest, ALoneFingerIsKeptLightAndGravityIsLeftToFriction) {
   EXPECT_TRUE(weighed.balanced);  // across gravity, which is all it was asked
 }
 
+// A capsule along y (r 2 cm, its cylinder 6 cm long): the thumb below and the middle finger above
+// pinch its side, the ring finger pushes on one cap, the fore finger (on the other cap) explores.
+// The three normals' lines meet 4 cm below the thumb: aimed there the thumb would pull and the
+// plan eases the whole grip; kept within the friction cone, the pinch holds.
+TEST(AimWithinConesTest, APinchAcrossACapsuleKeepsItsSqueezeWhileAPushOnACapIsEased) {
+  const Eigen::Vector3d centre(0.07, 0.0, 0.02);
+  const Eigen::Vector3d cap = centre + Eigen::Vector3d(0, -0.03, 0);
+  const Eigen::Vector3d out(0, -0.5, std::sqrt(3.0) / 2);  // the ring finger's, from its cap
+  const std::vector<Eigen::Vector3d> c = {centre + Eigen::Vector3d(0, 0.005, -0.02),
+                                          centre + Eigen::Vector3d(0, 0.03 + 0.02, 0),
+                                          centre + Eigen::Vector3d(0, 0.005, 0.02),
+                                          cap + 0.02 * out};
+  const std::vector<Eigen::Vector3d> n = {{0, 0, 1}, {0, -1, 0}, {0, 0, -1}, -out};
+  const std::vector<bool> grip = {true, false, true, true};
+  const auto meet = NormalsMeetingPoint(c, n, grip, centre);
+  ASSERT_TRUE(meet.has_value());
+  EXPECT_LT((*meet)[2], c[0][2] - 0.03) << "the lines meet well behind the thumb";
+  const auto plan_along = [&](double max_off) {
+    return PlanBoundedForcesAlong(AimWithinCones(c, n, grip, *meet, max_off), grip, *meet, 2.0,
+                                  0.1, 2.5, Eigen::Vector3d::Zero());
+  };
+  const ForcePlan aimed = plan_along(M_PI);  // aimed at the meeting point, as before
+  EXPECT_LT(aimed.forces[0].direction.dot(n[0]), 0.0) << "the thumb would pull";
+  EXPECT_LT(aimed.forces[0].magnitude + aimed.forces[2].magnitude, 1.0) << "the pinch eased";
+  const double cone = 0.35;
+  const ForcePlan kept = plan_along(cone);
+  for (int k : {0, 2, 3}) {
+    EXPECT_LE(std::acos(kept.forces[k].direction.dot(n[k])), cone + 1e-9) << k;
+  }
+  EXPECT_GT(kept.forces[0].magnitude, 1.5);
+  EXPECT_GT(kept.forces[2].magnitude, 1.5);
+  EXPECT_LT(kept.forces[3].magnitude, 0.5) << "nothing opposes the push on the cap";
+  EXPECT_EQ(kept.forces[1].magnitude, 0.0) << "the explorer stays out";
+  // On a sphere the normals meet at its centre and the cone changes nothing.
+  std::vector<Eigen::Vector3d> sc, sn;
+  SphereContacts(0.3, &sc, &sn, centre);
+  const std::vector<bool> all(sc.size(), true);
+  const auto directions = AimWithinCones(sc, sn, all, centre, cone);
+  for (size_t k = 0; k < sc.size(); ++k) {
+    EXPECT_LT((directions[k] - (centre - sc[k]).normalized()).norm(), 1e-12);
+  }
+}
+
 TEST(PlanBoundedForcesTest, APairSlightlyOffFacingKeepsItsSqueezeWhenFrictionTakesASmallShare) {
   // The thumb explores; the middle finger across from it has no opposite; the fore and ring
   // fingers face each other 4 deg off the line between them, both leaning toward the palm (-x),
