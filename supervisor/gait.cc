@@ -89,7 +89,8 @@ void Gait::Explore(const std::string& finger) {
   step_limit_ = spaced ? geometry_.StepLimit(axis, board_->view, params_.step / 4.0) : 0.0;
   const Eigen::AngleAxisd turn(ExploreBack(f, axis, sign, four), axis);
   explore_.point =
-      geometry_.ExplorePoint(f, turn, board_->view, board_->surface, board_->tip_radius_m);
+      geometry_.ExplorePoint(f, turn, board_->view, board_->surface, board_->tip_radius_m,
+                             params_.explore_max_elevation_rad);
   if (params_.max_contact_angle_rad > 0) {
     explore_.point = geometry_.TowardTipFront(f, explore_.point, board_->view, board_->surface,
                                               board_->tip_radius_m, params_.max_contact_angle_rad);

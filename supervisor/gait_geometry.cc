@@ -80,12 +80,27 @@ namespace {
 constexpr double kSameSurfaceM = 0.003;
 }  // namespace
 
+Eigen::Vector3d BelowElevation(const Eigen::Vector3d& offset, const Eigen::Vector3d& up,
+                               double max_elevation_rad) {
+  const double r = offset.norm();
+  const Eigen::Vector3d level = offset - offset.dot(up) * up;
+  if (r < 1e-12 || level.norm() < 1e-9 * r) return offset;
+  const double elevation = std::asin(std::clamp(offset.dot(up) / r, -1.0, 1.0));
+  if (elevation <= max_elevation_rad) return offset;
+  const double lowered = std::max(max_elevation_rad, -M_PI / 2);
+  return r * (std::cos(lowered) * level.normalized() + std::sin(lowered) * up);
+}
+
 Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
                                            const ControllerView& view,
-                                           const SurfaceModel& surface,
-                                           double tip_radius_m) const {
+                                           const SurfaceModel& surface, double tip_radius_m,
+                                           double max_elevation_rad) const {
   const Eigen::Vector3d centre = view.object.translation();
-  const Eigen::Vector3d guess = centre + turn * (home_[f] - home_centre_);
+  Eigen::Vector3d offset = turn * (home_[f] - home_centre_);
+  if (max_elevation_rad < M_PI / 2 && view.gravity.norm() > 0.5) {
+    offset = BelowElevation(offset, -view.gravity.normalized(), max_elevation_rad);
+  }
+  const Eigen::Vector3d guess = centre + offset;
   if (tip_radius_m <= 0) return guess;
   const Eigen::Matrix3d to_palm = view.object.linear();
   const SurfacePoint s = surface.Along(to_palm.transpose() * (guess - centre));

@@ -6,6 +6,7 @@
 // The explorer's next point lies in the direction of its home turned about the sensed centre
 // (ExplorePoint): as far from the centre as the home was, or on the surface the fingers have
 // felt there (surface_model.h) where that is known to lie elsewhere.
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -15,6 +16,12 @@
 #include "supervisor/task_description.h"
 
 namespace dmpl {
+
+// `offset` (from the object's centre) turned toward the level (perpendicular to `up`, unit)
+// about the horizontal axis across it, so that its elevation above the level is at most
+// `max_elevation_rad`; unchanged when it is already, or when it points straight up or down.
+Eigen::Vector3d BelowElevation(const Eigen::Vector3d& offset, const Eigen::Vector3d& up,
+                               double max_elevation_rad);
 
 class GaitGeometry {
  public:
@@ -36,8 +43,13 @@ class GaitGeometry {
   // centre, at the home's distance from the centre, unless `surface` knows the surface in that
   // direction to lie elsewhere (by more than 3 mm and twice its uncertainty): then
   // `tip_radius_m` off the felt surface.
+  // With `max_elevation_rad` below pi / 2 and gravity sensed (view.gravity), the direction is
+  // first lowered along its meridian to at most that elevation above the level through the
+  // centre (BelowElevation): a push from above the object's equator pushes it along gravity,
+  // and on a slick object friction cannot carry that as well as the weight.
   Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn, const ControllerView& view,
-                               const SurfaceModel& surface, double tip_radius_m) const;
+                               const SurfaceModel& surface, double tip_radius_m,
+                               double max_elevation_rad = M_PI / 2) const;
   // The explorer `f`'s `point` (tip centre), moved along the felt surface toward the finger's
   // base (against its tip's axis) in steps of a few degrees about the centre until the surface's
   // normal there lies within `max_angle` of the tip's axis as it stands now (the point where

@@ -104,6 +104,10 @@ struct TaskParams {
   // next; and an explorer's point is moved along the felt surface toward the finger's base
   // until the surface's normal there lies within this of its tip's axis.
   double max_contact_angle_rad = 0.0;
+  // An explorer's point lies no higher than this above the level through the object's centre
+  // (rad, seen from the centre; gravity from the palm's IMU): lowered along its meridian
+  // (GaitGeometry::ExplorePoint). pi / 2: anywhere.
+  double explore_max_elevation_rad = 1.5707963267948966;
   SupportParams support;
   ContactChoiceParams contact_choice;
 
@@ -127,6 +131,8 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explore_travel), AtLeast(0));
     a->Visit(DMPL_NVP(max_finger_deviation_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(max_contact_angle_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(explore_max_elevation_rad), InRange(-1.5707963267948966,
+                                                          1.5707963267948966));
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
   }

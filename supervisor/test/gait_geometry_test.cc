@@ -65,6 +65,35 @@ TEST(GaitGeometryTest, TheExplorersPointLiesOnTheFeltSurfaceWhereItIsKnown) {
   EXPECT_NEAR(to_z.z(), 0.032, 1e-9);
 }
 
+TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridian) {
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitX();  // palm up: gravity along -x
+  // 30 deg above the level, lowered to 5 deg: same distance, same direction across the level.
+  const Eigen::Vector3d high(0.037 * std::sin(0.5236), 0.037 * std::cos(0.5236), 0.0);
+  const Eigen::Vector3d lowered = BelowElevation(high, up, 0.0873);
+  EXPECT_NEAR(lowered.norm(), 0.037, 1e-12);
+  EXPECT_NEAR(std::asin(lowered.dot(up) / lowered.norm()), 0.0873, 1e-9);
+  EXPECT_NEAR(lowered.z(), 0.0, 1e-12);
+  EXPECT_GT(lowered.y(), 0.0);
+  // At or below the limit, or straight up: unchanged.
+  const Eigen::Vector3d low(-0.01, 0.03, 0.01);
+  EXPECT_TRUE(BelowElevation(low, up, 0.0).isApprox(low));
+  EXPECT_TRUE(BelowElevation(0.03 * up, up, 0.0).isApprox(0.03 * up));
+  // The explorer's home turned 0.6 rad about z rises 0.6 rad above the level; with gravity
+  // sensed and a limit of 0 it lands on the level, as far from the centre; without gravity
+  // sensed, or with the limit at pi / 2, where the turn puts it.
+  Ring ring(0.037);
+  const GaitGeometry g = ring.Geometry(0.0);
+  const SurfaceModel none_felt;
+  const Eigen::AngleAxisd tilt(-0.6, Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d turned = tilt * ring.home[0];  // home along +y
+  EXPECT_TRUE(g.ExplorePoint(0, tilt, ring.view, none_felt, 0.012, 0.0).isApprox(turned));
+  ring.view.gravity = -up;
+  EXPECT_TRUE(g.ExplorePoint(0, tilt, ring.view, none_felt, 0.012).isApprox(turned));
+  const Eigen::Vector3d level = g.ExplorePoint(0, tilt, ring.view, none_felt, 0.012, 0.0);
+  EXPECT_NEAR(level.x(), 0.0, 1e-12);
+  EXPECT_NEAR(level.norm(), 0.037, 1e-12);
+}
+
 TEST(GaitGeometryTest, AnExplorersPointMovesTowardItsBaseUntilItsTipFacesTheSurface) {
   // A 2.5 cm sphere felt all round; finger 0 stands along +y with its tip's axis pointing down
   // (-z: its base above, like the forefinger over the object's side).
