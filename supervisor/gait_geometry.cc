@@ -78,6 +78,8 @@ double GaitGeometry::StepLimit(const Eigen::Vector3d& axis_in, const ControllerV
 namespace {
 // Closer than this to the home's distance, the felt surface and the home's sphere agree.
 constexpr double kSameSurfaceM = 0.003;
+// Homes within this of the level through the centre: the fingers stand around the vertical.
+constexpr double kLevelHomeRad = 0.35;
 }  // namespace
 
 Eigen::Vector3d BelowElevation(const Eigen::Vector3d& offset, const Eigen::Vector3d& up,
@@ -97,7 +99,7 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
                                            double max_elevation_rad) const {
   const Eigen::Vector3d centre = view.object.translation();
   Eigen::Vector3d offset = turn * (home_[f] - home_centre_);
-  if (max_elevation_rad < M_PI / 2 && view.gravity.norm() > 0.5) {
+  if (max_elevation_rad < M_PI / 2 && HomesLevel(view.gravity)) {
     offset = BelowElevation(offset, -view.gravity.normalized(), max_elevation_rad);
   }
   const Eigen::Vector3d guess = centre + offset;
@@ -111,6 +113,17 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
   const double disagreement = std::abs(s.distance_m + tip_radius_m - (guess - centre).norm());
   if (disagreement <= std::max(2.0 * s.sigma_m, kSameSurfaceM)) return guess;
   return centre + to_palm * (s.point + tip_radius_m * s.normal);
+}
+
+bool GaitGeometry::HomesLevel(const Eigen::Vector3d& gravity) const {
+  if (gravity.norm() < 0.5) return false;
+  const Eigen::Vector3d up = -gravity.normalized();
+  for (const Eigen::Vector3d& home : home_) {
+    const Eigen::Vector3d offset = home - home_centre_;
+    if (offset.norm() < 1e-9) return false;
+    if (std::abs(offset.normalized().dot(up)) > std::sin(kLevelHomeRad)) return false;
+  }
+  return true;
 }
 
 Eigen::Vector3d GaitGeometry::TowardTipFront(int f, const Eigen::Vector3d& point,

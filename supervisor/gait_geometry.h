@@ -43,10 +43,12 @@ class GaitGeometry {
   // centre, at the home's distance from the centre, unless `surface` knows the surface in that
   // direction to lie elsewhere (by more than 3 mm and twice its uncertainty): then
   // `tip_radius_m` off the felt surface.
-  // With `max_elevation_rad` below pi / 2 and gravity sensed (view.gravity), the direction is
-  // first lowered along its meridian to at most that elevation above the level through the
-  // centre (BelowElevation): a push from above the object's equator pushes it along gravity,
-  // and on a slick object friction cannot carry that as well as the weight.
+  // With `max_elevation_rad` below pi / 2, gravity sensed (view.gravity) and the fingers
+  // standing around the vertical (HomesLevel), the direction is first lowered along its
+  // meridian to at most that elevation above the level through the centre (BelowElevation):
+  // a push from above the object's equator pushes it along gravity, and on a slick object
+  // friction cannot carry that as well as the weight. With the palm sideways one finger holds
+  // from above and one from below, and the limit does not apply (measured: docs/benchmarks.md).
   Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn, const ControllerView& view,
                                const SurfaceModel& surface, double tip_radius_m,
                                double max_elevation_rad = M_PI / 2) const;
@@ -61,6 +63,9 @@ class GaitGeometry {
   // `back` (rad about `axis`), no further than the deviation allows finger `f` from its home:
   // a turn by phi about the axis moves a point at beta from it by 2 asin(sin(beta) sin(phi/2)).
   double LimitBack(int f, const Eigen::Vector3d& axis, double back) const;
+  // Whether every finger's home lies within 20 deg of the level through the home centre
+  // (against `gravity`, palm frame; false while it is not sensed): the palm up or down.
+  bool HomesLevel(const Eigen::Vector3d& gravity) const;
   // The explorer's `target` moved forward (about `axis`, by `sign`) until it keeps the clearance
   // from the finger it slides back toward, where that finger will be after `step` (if it rides).
   Eigen::Vector3d KeepClear(int explorer, const Eigen::Vector3d& axis, double sign, double step,

@@ -92,6 +92,13 @@ TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridian)
   const Eigen::Vector3d level = g.ExplorePoint(0, tilt, ring.view, none_felt, 0.012, 0.0);
   EXPECT_NEAR(level.x(), 0.0, 1e-12);
   EXPECT_NEAR(level.norm(), 0.037, 1e-12);
+  // The palm sideways (gravity along -z): one finger's home is on top, one below; no limit.
+  EXPECT_TRUE(g.HomesLevel(-up));
+  ring.view.gravity = -Eigen::Vector3d::UnitZ();
+  EXPECT_FALSE(g.HomesLevel(ring.view.gravity));
+  const Eigen::AngleAxisd rise(0.6, Eigen::Vector3d::UnitX());  // home +y toward +z
+  EXPECT_TRUE(g.ExplorePoint(0, rise, ring.view, none_felt, 0.012, 0.0).isApprox(
+      rise * ring.home[0]));
 }
 
 TEST(GaitGeometryTest, AnExplorersPointMovesTowardItsBaseUntilItsTipFacesTheSurface) {
