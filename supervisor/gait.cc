@@ -90,7 +90,7 @@ void Gait::Explore(const std::string& finger) {
   const Eigen::AngleAxisd turn(ExploreBack(f, axis, sign, four), axis);
   explore_.point =
       geometry_.ExplorePoint(f, turn, board_->view, board_->surface, board_->tip_radius_m,
-                             params_.explore_max_elevation_rad);
+                             params_.explore_max_elevation_rad, params_.explore_face_partner_rad);
   if (params_.max_contact_angle_rad > 0) {
     explore_.point = geometry_.TowardTipFront(f, explore_.point, board_->view, board_->surface,
                                               board_->tip_radius_m, params_.max_contact_angle_rad);

@@ -96,11 +96,21 @@ Eigen::Vector3d BelowElevation(const Eigen::Vector3d& offset, const Eigen::Vecto
 Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
                                            const ControllerView& view,
                                            const SurfaceModel& surface, double tip_radius_m,
-                                           double max_elevation_rad) const {
+                                           double max_elevation_rad,
+                                           double face_partner_rad) const {
   const Eigen::Vector3d centre = view.object.translation();
   Eigen::Vector3d offset = turn * (home_[f] - home_centre_);
   if (max_elevation_rad < M_PI / 2 && HomesLevel(view.gravity)) {
     offset = BelowElevation(offset, -view.gravity.normalized(), max_elevation_rad);
+  }
+  const int partner = face_partner_rad > 0 ? Partner(f) : -1;
+  if (partner >= 0 && view.fingers[partner].in_contact) {
+    const Eigen::Vector3d across = centre - view.fingers[partner].contact;
+    const double angle = std::atan2(offset.cross(across).norm(), offset.dot(across));
+    const Eigen::Vector3d about = offset.cross(across);
+    if (across.norm() > 1e-6 && about.norm() > 1e-12) {
+      offset = Eigen::AngleAxisd(std::min(angle, face_partner_rad), about.normalized()) * offset;
+    }
   }
   const Eigen::Vector3d guess = centre + offset;
   if (tip_radius_m <= 0) return guess;
@@ -113,6 +123,20 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
   const double disagreement = std::abs(s.distance_m + tip_radius_m - (guess - centre).norm());
   if (disagreement <= std::max(2.0 * s.sigma_m, kSameSurfaceM)) return guess;
   return centre + to_palm * (s.point + tip_radius_m * s.normal);
+}
+
+int GaitGeometry::Partner(int f) const {
+  const Eigen::Vector3d own = (home_[f] - home_centre_).normalized();
+  int partner = -1;
+  double least = -0.5;
+  for (int k = 0; k < num_fingers(); ++k) {
+    const double c = own.dot((home_[k] - home_centre_).normalized());
+    if (k != f && c < least) {
+      least = c;
+      partner = k;
+    }
+  }
+  return partner;
 }
 
 bool GaitGeometry::HomesLevel(const Eigen::Vector3d& gravity) const {

@@ -49,9 +49,17 @@ class GaitGeometry {
   // a push from above the object's equator pushes it along gravity, and on a slick object
   // friction cannot carry that as well as the weight. With the palm sideways one finger holds
   // from above and one from below, and the limit does not apply (measured: docs/benchmarks.md).
+  // With `face_partner_rad` > 0 the direction is then turned toward the antipode (through the
+  // sensed centre) of the partner's contact (Partner), by at most that angle: a pair that faces
+  // each other squeezes the object without pushing it anywhere, and on a sphere two antipodal
+  // contacts stay antipodal while they ride its turns.
   Eigen::Vector3d ExplorePoint(int f, const Eigen::AngleAxisd& turn, const ControllerView& view,
                                const SurfaceModel& surface, double tip_radius_m,
-                               double max_elevation_rad = M_PI / 2) const;
+                               double max_elevation_rad = M_PI / 2,
+                               double face_partner_rad = 0.0) const;
+  // The finger whose home stands across the centre from finger `f`'s (the least cosine between
+  // the homes' directions, below -0.5); -1 when none does.
+  int Partner(int f) const;
   // The explorer `f`'s `point` (tip centre), moved along the felt surface toward the finger's
   // base (against its tip's axis) in steps of a few degrees about the centre until the surface's
   // normal there lies within `max_angle` of the tip's axis as it stands now (the point where

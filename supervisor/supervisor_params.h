@@ -110,6 +110,9 @@ struct TaskParams {
   // ExplorePoint). pi / 2 (the default): anywhere. 0 wins random goals on slick and heavy
   // spheres and costs time on the nominal one (docs/benchmarks.md, "Explorers kept off the top").
   double explore_max_elevation_rad = 1.5707963267948966;
+  // An explorer's point turned toward the antipode of its partner's contact (the finger whose
+  // home stands across from its own) by at most this (rad; 0: not at all).
+  double explore_face_partner_rad = 0.0;
   SupportParams support;
   ContactChoiceParams contact_choice;
 
@@ -135,6 +138,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(max_contact_angle_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(explore_max_elevation_rad), InRange(-1.5707963267948966,
                                                           1.5707963267948966));
+    a->Visit(DMPL_NVP(explore_face_partner_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
   }

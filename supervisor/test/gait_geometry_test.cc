@@ -101,6 +101,27 @@ TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridian)
       rise * ring.home[0]));
 }
 
+TEST(GaitGeometryTest, AnExplorersPointTurnsTowardItsPartnersAntipode) {
+  Ring ring(0.037);
+  const GaitGeometry g = ring.Geometry(0.0);
+  EXPECT_EQ(g.Partner(0), 2);  // homes +y and -y
+  EXPECT_EQ(g.Partner(1), 3);
+  // The partner (finger 2) has ridden 0.3 rad about z: its antipode lies 0.3 rad from finger
+  // 0's home. Turned by at most 0.2 rad the point goes 0.2 rad of the way; by 0.5, all of it.
+  const Eigen::AngleAxisd ride(0.3, Eigen::Vector3d::UnitZ());
+  ring.view.fingers[2].contact = ride * Eigen::Vector3d(0, -0.025, 0);
+  const SurfaceModel none_felt;
+  const Eigen::AngleAxisd none(0.0, Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d part = g.ExplorePoint(0, none, ring.view, none_felt, 0.012, M_PI / 2, 0.2);
+  EXPECT_TRUE(part.isApprox(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()) * ring.home[0]));
+  const Eigen::Vector3d all = g.ExplorePoint(0, none, ring.view, none_felt, 0.012, M_PI / 2, 0.5);
+  EXPECT_TRUE(all.isApprox(ride * ring.home[0]));
+  // Not in contact: the gait's point.
+  ring.view.fingers[2].in_contact = false;
+  EXPECT_TRUE(g.ExplorePoint(0, none, ring.view, none_felt, 0.012, M_PI / 2, 0.5)
+                  .isApprox(ring.home[0]));
+}
+
 TEST(GaitGeometryTest, AnExplorersPointMovesTowardItsBaseUntilItsTipFacesTheSurface) {
   // A 2.5 cm sphere felt all round; finger 0 stands along +y with its tip's axis pointing down
   // (-z: its base above, like the forefinger over the object's side).
