@@ -111,7 +111,9 @@ struct TaskParams {
   // spheres and costs time on the nominal one (docs/benchmarks.md, "Explorers kept off the top").
   double explore_max_elevation_rad = 1.5707963267948966;
   // An explorer's point turned toward the antipode of its partner's contact (the finger whose
-  // home stands across from its own) by at most this (rad; 0: not at all).
+  // home stands across from its own) by at most this (rad; 0, the default: not at all). Wins
+  // random goals on slick and heavy spheres, costs time per goal on the nominal one
+  // (docs/benchmarks.md, "Explorers kept off the top").
   double explore_face_partner_rad = 0.0;
   SupportParams support;
   ContactChoiceParams contact_choice;
