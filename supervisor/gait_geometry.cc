@@ -80,6 +80,16 @@ namespace {
 constexpr double kSameSurfaceM = 0.003;
 // Homes within this of the level through the centre: the fingers stand around the vertical.
 constexpr double kLevelHomeRad = 0.35;
+
+// `v` turned toward `toward` by at most `most_rad` (all the way when it is nearer); unchanged
+// when either is zero or they are parallel or opposed (no plane to turn in).
+Eigen::Vector3d TurnedToward(const Eigen::Vector3d& v, const Eigen::Vector3d& toward,
+                             double most_rad) {
+  const Eigen::Vector3d about = v.cross(toward);
+  if (toward.norm() < 1e-6 || about.norm() < 1e-12) return v;
+  const double angle = std::atan2(about.norm(), v.dot(toward));
+  return Eigen::AngleAxisd(std::min(angle, most_rad), about.normalized()) * v;
+}
 }  // namespace
 
 Eigen::Vector3d BelowElevation(const Eigen::Vector3d& offset, const Eigen::Vector3d& up,
@@ -105,12 +115,8 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
   }
   const int partner = face_partner_rad > 0 ? Partner(f) : -1;
   if (partner >= 0 && view.fingers[partner].in_contact) {
-    const Eigen::Vector3d across = centre - view.fingers[partner].contact;
-    const double angle = std::atan2(offset.cross(across).norm(), offset.dot(across));
-    const Eigen::Vector3d about = offset.cross(across);
-    if (across.norm() > 1e-6 && about.norm() > 1e-12) {
-      offset = Eigen::AngleAxisd(std::min(angle, face_partner_rad), about.normalized()) * offset;
-    }
+    // Toward the antipode of the partner's contact, through the centre.
+    offset = TurnedToward(offset, centre - view.fingers[partner].contact, face_partner_rad);
   }
   const Eigen::Vector3d guess = centre + offset;
   if (tip_radius_m <= 0) return guess;

@@ -218,13 +218,11 @@ ForcePlan PlanBoundedForces(const std::vector<Eigen::Vector3d>& contacts,
                             double nominal_n, double minimum_n, double maximum_n,
                             const Eigen::Vector3d& net, double balance_weight,
                             const Eigen::Vector3d& unbalanced_along, const FrictionShare& share) {
-  DMPL_DEMAND(contacts.size() == grip.size());
-  std::vector<Eigen::Vector3d> directions(contacts.size(), Eigen::Vector3d::Zero());
-  for (size_t i = 0; i < contacts.size(); ++i) {
-    if ((aim - contacts[i]).norm() > 1e-9) directions[i] = (aim - contacts[i]).normalized();
-  }
-  return PlanBoundedForcesAlong(directions, grip, aim, nominal_n, minimum_n, maximum_n, net,
-                                balance_weight, unbalanced_along, share);
+  // Every force straight at `aim`: no normals, so nothing is clamped.
+  const std::vector<Eigen::Vector3d> no_normals(contacts.size(), Eigen::Vector3d::Zero());
+  return PlanBoundedForcesAlong(AimWithinCones(contacts, no_normals, grip, aim, M_PI), grip, aim,
+                                nominal_n, minimum_n, maximum_n, net, balance_weight,
+                                unbalanced_along, share);
 }
 
 std::vector<Eigen::Vector3d> AimWithinCones(const std::vector<Eigen::Vector3d>& contacts,
