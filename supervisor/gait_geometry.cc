@@ -110,7 +110,7 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
                                            double face_partner_rad) const {
   const Eigen::Vector3d centre = view.object.translation();
   Eigen::Vector3d offset = turn * (home_[f] - home_centre_);
-  if (max_elevation_rad < M_PI / 2 && HomesLevel(view.gravity)) {
+  if (max_elevation_rad < M_PI / 2 && PalmBelow(view.gravity) && HomesLevel(view.gravity)) {
     offset = BelowElevation(offset, -view.gravity.normalized(), max_elevation_rad);
   }
   const int partner = face_partner_rad > 0 ? Partner(f) : -1;
@@ -154,6 +154,10 @@ bool GaitGeometry::HomesLevel(const Eigen::Vector3d& gravity) const {
     if (std::abs(offset.normalized().dot(up)) > std::sin(kLevelHomeRad)) return false;
   }
   return true;
+}
+
+bool GaitGeometry::PalmBelow(const Eigen::Vector3d& gravity) {
+  return gravity.norm() > 0.5 && gravity.normalized().x() < 0.0;
 }
 
 Eigen::Vector3d GaitGeometry::TowardTipFront(int f, const Eigen::Vector3d& point,

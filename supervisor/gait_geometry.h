@@ -44,11 +44,14 @@ class GaitGeometry {
   // direction to lie elsewhere (by more than 3 mm and twice its uncertainty): then
   // `tip_radius_m` off the felt surface.
   // With `max_elevation_rad` below pi / 2, gravity sensed (view.gravity) and the fingers
-  // standing around the vertical (HomesLevel), the direction is first lowered along its
-  // meridian to at most that elevation above the level through the centre (BelowElevation):
-  // a push from above the object's equator pushes it along gravity, and on a slick object
-  // friction cannot carry that as well as the weight. With the palm sideways one finger holds
-  // from above and one from below, and the limit does not apply (measured: docs/benchmarks.md).
+  // standing around the vertical (HomesLevel) over the palm (PalmBelow), the direction is
+  // first lowered along its meridian to at most that elevation above the level through the
+  // centre (BelowElevation): a push from above the object's equator pushes it along gravity,
+  // and on a slick object friction cannot carry that as well as the weight. Lowered, an
+  // explorer moves toward the palm, where its tip still reaches. With the palm sideways one
+  // finger holds from above and one from below; palm down, lowered is away from the palm, where
+  // the finger wraps its links round the object: the limit does not apply in either
+  // (measured: docs/benchmarks.md).
   // With `face_partner_rad` > 0 the direction is then turned toward the antipode (through the
   // sensed centre) of the partner's contact (Partner), by at most that angle: a pair that faces
   // each other squeezes the object without pushing it anywhere, and on a sphere two antipodal
@@ -74,6 +77,9 @@ class GaitGeometry {
   // Whether every finger's home lies within 20 deg of the level through the home centre
   // (against `gravity`, palm frame; false while it is not sensed): the palm up or down.
   bool HomesLevel(const Eigen::Vector3d& gravity) const;
+  // Whether gravity (palm frame) points into the palm (along -x, the palm normal's opposite):
+  // the object rests toward the palm, and what lies below its centre lies toward the palm.
+  static bool PalmBelow(const Eigen::Vector3d& gravity);
   // The explorer's `target` moved forward (about `axis`, by `sign`) until it keeps the clearance
   // from the finger it slides back toward, where that finger will be after `step` (if it rides).
   Eigen::Vector3d KeepClear(int explorer, const Eigen::Vector3d& axis, double sign, double step,

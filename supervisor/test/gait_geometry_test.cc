@@ -65,7 +65,7 @@ TEST(GaitGeometryTest, TheExplorersPointLiesOnTheFeltSurfaceWhereItIsKnown) {
   EXPECT_NEAR(to_z.z(), 0.032, 1e-9);
 }
 
-TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridian) {
+TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridianOverThePalm) {
   const Eigen::Vector3d up = Eigen::Vector3d::UnitX();  // palm up: gravity along -x
   // 30 deg above the level, lowered to 5 deg: same distance, same direction across the level.
   const Eigen::Vector3d high(0.037 * std::sin(0.5236), 0.037 * std::cos(0.5236), 0.0);
@@ -99,6 +99,12 @@ TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridian)
   const Eigen::AngleAxisd rise(0.6, Eigen::Vector3d::UnitX());  // home +y toward +z
   EXPECT_TRUE(g.ExplorePoint(0, rise, ring.view, none_felt, 0.012, 0.0).isApprox(
       rise * ring.home[0]));
+  // Palm down (gravity along +x): the homes are level, but lowered would be away from the palm,
+  // where the finger's links wrap the object; no limit.
+  ring.view.gravity = up;
+  EXPECT_TRUE(g.HomesLevel(ring.view.gravity));
+  EXPECT_FALSE(GaitGeometry::PalmBelow(ring.view.gravity));
+  EXPECT_TRUE(g.ExplorePoint(0, tilt, ring.view, none_felt, 0.012, 0.0).isApprox(turned));
 }
 
 TEST(GaitGeometryTest, AnExplorersPointTurnsTowardItsPartnersAntipode) {
