@@ -104,11 +104,12 @@ struct TaskParams {
   // next; and an explorer's point is moved along the felt surface toward the finger's base
   // until the surface's normal there lies within this of its tip's axis.
   double max_contact_angle_rad = 0.0;
-  // With the fingers standing around the vertical (the palm up or down), an explorer's point
-  // lies no higher than this above the level through the object's centre (rad, seen from the
-  // centre; gravity from the palm's IMU): lowered along its meridian (GaitGeometry::
+  // With the fingers standing around the vertical over the palm (the palm up), an explorer's
+  // point lies no higher than this above the level through the object's centre (rad, seen from
+  // the centre; gravity from the palm's IMU): lowered along its meridian (GaitGeometry::
   // ExplorePoint). pi / 2 (the default): anywhere. 0 wins random goals on slick and heavy
-  // spheres and costs time on the nominal one (docs/benchmarks.md, "Explorers kept off the top").
+  // spheres in Bullet, and loses nominal runs in MuJoCo: the contacts ride down to where the
+  // links are (docs/benchmarks.md, "Explorers kept off the top" and "... in both engines").
   double explore_max_elevation_rad = 1.5707963267948966;
   // An explorer's point turned toward the antipode of its partner's contact (the finger whose
   // home stands across from its own) by at most this (rad; 0, the default: not at all). Wins
