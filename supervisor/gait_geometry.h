@@ -47,11 +47,10 @@ class GaitGeometry {
   // standing around the vertical (HomesLevel) over the palm (PalmBelow), the direction is
   // first lowered along its meridian to at most that elevation above the level through the
   // centre (BelowElevation): a push from above the object's equator pushes it along gravity,
-  // and on a slick object friction cannot carry that as well as the weight. Lowered, an
-  // explorer moves toward the palm, where its tip still reaches. With the palm sideways one
-  // finger holds from above and one from below; palm down, lowered is away from the palm, where
-  // the finger wraps its links round the object: the limit does not apply in either
-  // (measured: docs/benchmarks.md).
+  // and on a slick object friction cannot carry that as well as the weight. With the palm
+  // sideways one finger holds from above and one from below; palm down, lowered is away from
+  // the palm, where the finger wraps its links round the object: the limit does not apply in
+  // either (measured: docs/benchmarks.md).
   // With `face_partner_rad` > 0 the direction is then turned toward the antipode (through the
   // sensed centre) of the partner's contact (Partner), by at most that angle: a pair that faces
   // each other squeezes the object without pushing it anywhere, and on a sphere two antipodal
