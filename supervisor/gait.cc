@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "components/controller/grasp_support.h"
+#include "supervisor/explorer_choice.h"
 
 namespace dmpl {
 
@@ -238,8 +239,17 @@ void Gait::PreferFingerAtRisk(int skip) {
 }
 
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
-  const int next = geometry_.FurthestFromHome(axis, step, skip, board_->view);
-  if (next >= 0) regrasp_.set_next_explorer(board_->fingers[next]);
+  const SupportParams& p = params_.support;
+  const ExplorerChoice next = NextExplorer(geometry_, axis, step, skip, board_->view,
+                                           {p.friction, 0.0, p.max_push_n},
+                                           params_.explorer_support_slack_rad);
+  if (next.finger < 0) return;
+  if (next.finger != next.furthest && board_->fingers[next.finger] != regrasp_.next_explorer()) {
+    board_->Note(board_->fingers[next.finger] + " explores next, not " +
+                 board_->fingers[next.furthest] + ": the others hold " + Fixed(next.support_n) +
+                 " N against gravity without it, " + Fixed(next.furthest_support_n) + " N");
+  }
+  regrasp_.set_next_explorer(board_->fingers[next.finger]);
 }
 
 Eigen::Vector3d Gait::StepAxis() const {

@@ -116,6 +116,11 @@ struct TaskParams {
   // random goals on slick and heavy spheres, costs time per goal on the nominal one
   // (docs/benchmarks.md, "Explorers kept off the top").
   double explore_face_partner_rad = 0.0;
+  // With this > 0 (rad) and gravity sensed, the next explorer is, of the fingers the next step
+  // takes within this of the furthest finger's deviation from home, the one whose lifting leaves
+  // the most support along gravity (task.support; explorer_choice.h); 0, the default: the
+  // furthest (needs max_finger_deviation_rad).
+  double explorer_support_slack_rad = 0.0;
   SupportParams support;
   ContactChoiceParams contact_choice;
 
@@ -142,6 +147,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explore_max_elevation_rad), InRange(-1.5707963267948966,
                                                           1.5707963267948966));
     a->Visit(DMPL_NVP(explore_face_partner_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(explorer_support_slack_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
   }

@@ -1,0 +1,42 @@
+#include "supervisor/explorer_choice.h"
+
+#include "supervisor/contact_chooser.h"  // GripContacts
+
+namespace dmpl {
+
+namespace {
+// A support this much larger than the furthest finger's counts as larger: the LP's answers for
+// one grasp agree to far better than this, and a tie keeps the reach rule.
+constexpr double kMoreSupportN = 0.05;
+}  // namespace
+
+ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis_in,
+                            double step, int skip, const ControllerView& view,
+                            const SupportLimits& limits, double slack_rad) {
+  ExplorerChoice choice;
+  const Eigen::Vector3d axis = axis_in.normalized();
+  choice.furthest = geometry.FurthestFromHome(axis, step, skip, view);
+  choice.finger = choice.furthest;
+  if (choice.furthest < 0 || !(slack_rad > 0) || view.gravity.norm() < 0.5) return choice;
+  const Eigen::Vector3d centre = view.object.translation();
+  const Eigen::Vector3d down = view.gravity.normalized();
+  auto support_without = [&](int k) {
+    return SupportAlong(GripContacts(view, k), down, centre, limits);
+  };
+  const Eigen::AngleAxisd turn(step, axis);
+  const double reach = geometry.Deviation(choice.furthest, turn, view);
+  choice.furthest_support_n = support_without(choice.furthest);
+  choice.support_n = choice.furthest_support_n;
+  for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
+    if (k == skip || k == choice.furthest || !view.fingers[k].in_contact) continue;
+    if (geometry.Deviation(k, turn, view) < reach - slack_rad) continue;
+    const double support = support_without(k);
+    if (support > choice.support_n + kMoreSupportN) {
+      choice.finger = k;
+      choice.support_n = support;
+    }
+  }
+  return choice;
+}
+
+}  // namespace dmpl

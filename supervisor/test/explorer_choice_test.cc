@@ -1,0 +1,84 @@
+#include "supervisor/explorer_choice.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace dmpl {
+namespace {
+
+constexpr double kObjectRadius = 0.025;
+constexpr double kTipRadius = 0.012;
+
+// Four fingertips on a 2.5 cm sphere at the origin, their homes 90 deg apart around the palm
+// normal x (the palm up: gravity along -x). Finger k stands `elevation[k]` rad above the equator
+// (toward +x, away from the palm) over its home.
+struct Grasp {
+  explicit Grasp(const std::vector<double>& elevation) {
+    view.fingers.resize(4);
+    view.gravity = -Eigen::Vector3d::UnitX();
+    for (int k = 0; k < 4; ++k) {
+      const double a = M_PI / 2 * k;
+      const Eigen::Vector3d level(0.0, std::cos(a), std::sin(a));
+      home.push_back((kObjectRadius + kTipRadius) * level);
+      const Eigen::Vector3d d =
+          std::cos(elevation[k]) * level + std::sin(elevation[k]) * Eigen::Vector3d::UnitX();
+      view.fingers[k].in_contact = true;
+      view.fingers[k].contact = kObjectRadius * d;
+      view.fingers[k].tip = (kObjectRadius + kTipRadius) * d;
+    }
+  }
+  GaitGeometry Geometry() const {
+    return GaitGeometry(home, Eigen::Vector3d::Zero(), GaitSpec{}, 0.35);
+  }
+  std::vector<Eigen::Vector3d> home;
+  ControllerView view;
+};
+
+const SupportLimits kLimits{0.5, 0.0, 2.5};
+const Eigen::Vector3d kAxis = Eigen::Vector3d::UnitX();
+
+TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesMoreSupport) {
+  // With one finger lifted its partner across is unopposed and pushes next to nothing: the
+  // weight rests on the other pair. Fingers 1 and 3 stand 0.15 rad above the equator (their
+  // pushes press the sphere toward the palm), finger 2 0.2 rad below it (its push has an upward
+  // part), finger 0 on it. A 0.1 rad step about x takes finger 2 furthest from home (the reach
+  // rule's choice: lifting it leaves the pair above), fingers 1 and 3 within 0.05 rad of it
+  // (lifting one leaves fingers 0 and 2), finger 0 0.12 rad short.
+  const Grasp grasp({0.0, 0.15, -0.2, 0.15});
+  const GaitGeometry g = grasp.Geometry();
+  const Eigen::AngleAxisd step(0.1, kAxis);
+  ASSERT_GT(g.Deviation(2, step, grasp.view), g.Deviation(1, step, grasp.view));
+  ASSERT_LT(g.Deviation(2, step, grasp.view) - g.Deviation(1, step, grasp.view), 0.05);
+
+  const ExplorerChoice by_support = NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06);
+  EXPECT_EQ(by_support.furthest, 2);
+  EXPECT_EQ(by_support.finger, 1);
+  // Friction (0.5 of pushes of at most 2.5 N) holds what the pair above leaves; the pair of
+  // fingers 0 and 2 holds more, finger 2's push carrying part of the weight.
+  EXPECT_GT(by_support.support_n, by_support.furthest_support_n + 0.5);
+
+  // No slack, a slack that does not reach finger 0, or gravity not sensed: the reach rule.
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.0).finger, 2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.02).finger, 2);
+  ControllerView weightless = grasp.view;
+  weightless.gravity.setZero();
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, weightless, kLimits, 0.06).finger, 2);
+  // The finger skipped (exploring now) is never chosen: finger 3 then.
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, 1, grasp.view, kLimits, 0.06).finger, 3);
+}
+
+TEST(ExplorerChoiceTest, OnALevelGraspTheReachRuleStands) {
+  // Every finger on the equator: each one's absence leaves the same support, so the furthest
+  // (the reach rule's) explores whatever the slack.
+  const Grasp grasp({0.0, 0.0, 0.0, 0.0});
+  const GaitGeometry g = grasp.Geometry();
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  const ExplorerChoice choice = NextExplorer(g, z, 0.1, -1, grasp.view, kLimits, M_PI);
+  EXPECT_EQ(choice.finger, choice.furthest);
+  EXPECT_EQ(choice.finger, g.FurthestFromHome(z, 0.1, -1, grasp.view));
+}
+
+}  // namespace
+}  // namespace dmpl
