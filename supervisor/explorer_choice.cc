@@ -1,5 +1,8 @@
 #include "supervisor/explorer_choice.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "supervisor/contact_chooser.h"  // GripContacts
 
 namespace dmpl {
@@ -12,12 +15,14 @@ constexpr double kMoreSupportN = 0.05;
 
 ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis_in,
                             double step, int skip, const ControllerView& view,
-                            const SupportLimits& limits, double slack_rad) {
+                            const SupportLimits& limits, double slack_rad, double need_n,
+                            double palm_side_rad) {
   ExplorerChoice choice;
   const Eigen::Vector3d axis = axis_in.normalized();
   choice.furthest = geometry.FurthestFromHome(axis, step, skip, view);
   choice.finger = choice.furthest;
   if (choice.furthest < 0 || !(slack_rad > 0) || view.gravity.norm() < 0.5) return choice;
+  if (PalmSideElevation(choice.furthest, view) < -palm_side_rad) return choice;
   const Eigen::Vector3d centre = view.object.translation();
   const Eigen::Vector3d down = view.gravity.normalized();
   auto support_without = [&](int k) {
@@ -27,6 +32,7 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
   const double reach = geometry.Deviation(choice.furthest, turn, view);
   choice.furthest_support_n = support_without(choice.furthest);
   choice.support_n = choice.furthest_support_n;
+  if (choice.furthest_support_n >= need_n) return choice;
   for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
     if (k == skip || k == choice.furthest || !view.fingers[k].in_contact) continue;
     if (geometry.Deviation(k, turn, view) < reach - slack_rad) continue;
@@ -37,6 +43,13 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
     }
   }
   return choice;
+}
+
+double PalmSideElevation(int f, const ControllerView& view) {
+  const FingerView& v = view.fingers[f];
+  const Eigen::Vector3d out = v.contact - view.object.translation();
+  if (!v.in_contact || out.norm() < 1e-9) return 0.0;
+  return std::asin(std::clamp(out.normalized().x(), -1.0, 1.0));
 }
 
 }  // namespace dmpl

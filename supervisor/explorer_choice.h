@@ -3,7 +3,11 @@
 // furthest from its home (GaitGeometry::FurthestFromHome), so that no finger rides out of its
 // workspace. Under gravity a second rule weighs in: the finger that leaves must leave a grasp
 // that still holds the weight. Among the fingers nearly as far from home as the furthest, the
-// one whose absence leaves the most support along the sensed gravity (SupportAlong) explores.
+// one whose absence leaves the most support along the sensed gravity (SupportAlong) explores,
+// when the furthest's absence would leave less than the grasp needs.
+#include <cmath>
+#include <limits>
+
 #include <Eigen/Geometry>
 
 #include "components/controller/grasp_support.h"
@@ -21,10 +25,20 @@ struct ExplorerChoice {
 
 // The next explorer (not `skip`; -1: none) for a step of `step` rad about `axis`: of the
 // fingers in contact whose deviation after the step is within `slack_rad` of the furthest's,
-// the one whose lifting leaves the most support along view.gravity within `limits`; the
-// furthest on a tie, with `slack_rad` 0, or while gravity is not sensed.
+// the one whose lifting leaves the most support along view.gravity within `limits`. The
+// furthest while its absence leaves at least `need_n`, while its contact lies more than
+// `palm_side_rad` toward the palm from the level through the centre (PalmSideElevation: its
+// links come near the object there, and it must move), on a tie, with `slack_rad` 0, or while
+// gravity is not sensed.
 ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis,
                             double step, int skip, const ControllerView& view,
-                            const SupportLimits& limits, double slack_rad);
+                            const SupportLimits& limits, double slack_rad,
+                            double need_n = std::numeric_limits<double>::infinity(),
+                            double palm_side_rad = M_PI / 2);
+
+// The elevation (rad) of finger `f`'s contact above the plane through the object's centre
+// parallel to the palm (palm frame: x is the palm's normal): negative toward the palm. 0 when
+// the finger is not in contact.
+double PalmSideElevation(int f, const ControllerView& view);
 
 }  // namespace dmpl

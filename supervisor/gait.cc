@@ -242,7 +242,9 @@ void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip
   const SupportParams& p = params_.support;
   const ExplorerChoice next = NextExplorer(geometry_, axis, step, skip, board_->view,
                                            {p.friction, 0.0, p.max_push_n},
-                                           params_.explorer_support_slack_rad);
+                                           params_.explorer_support.slack_rad,
+                                           params_.explorer_support.need_n,
+                                           params_.explorer_support.palm_side_rad);
   if (next.finger < 0) return;
   if (next.finger != next.furthest && board_->fingers[next.finger] != regrasp_.next_explorer()) {
     board_->Note(board_->fingers[next.finger] + " explores next, not " +

@@ -23,6 +23,27 @@ struct SupportParams {
   }
 };
 
+// task.explorer_support: which finger explores next (explorer_choice.h). The gait's rule is
+// reach (the finger the next step takes furthest from its home). With `slack_rad` > 0 and
+// gravity sensed, when the others would hold less than `need_n` along gravity without that
+// finger (SupportAlong within task.support), the finger whose absence leaves the most support
+// explores instead, of those the step takes within `slack_rad` of the furthest's deviation;
+// unless the furthest's contact lies more than `palm_side_rad` toward the palm from the level
+// through the centre, where its links come near the object. Needs max_finger_deviation_rad
+// (random goals). 0, the default: the reach rule alone.
+struct ExplorerSupportParams {
+  double slack_rad = 0.0;
+  double need_n = 1e9;  // N: the support below which the reach rule gives way (default: always)
+  double palm_side_rad = 1.5707963267948966;  // (default: anywhere)
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(slack_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(need_n), AtLeast(0));
+    a->Visit(DMPL_NVP(palm_side_rad), InRange(-1.5707963267948966, 1.5707963267948966));
+  }
+};
+
 // task.contact_choice: the explorer's next contact chosen among points of the felt surface
 // around the gait's own (contact_chooser.h): one its tip reaches within the joints' limits, whose
 // links stay clear of the felt surface now and after the steps it rides, apart from the other
@@ -116,11 +137,7 @@ struct TaskParams {
   // random goals on slick and heavy spheres, costs time per goal on the nominal one
   // (docs/benchmarks.md, "Explorers kept off the top").
   double explore_face_partner_rad = 0.0;
-  // With this > 0 (rad) and gravity sensed, the next explorer is, of the fingers the next step
-  // takes within this of the furthest finger's deviation from home, the one whose lifting leaves
-  // the most support along gravity (task.support; explorer_choice.h); 0, the default: the
-  // furthest (needs max_finger_deviation_rad).
-  double explorer_support_slack_rad = 0.0;
+  ExplorerSupportParams explorer_support;
   SupportParams support;
   ContactChoiceParams contact_choice;
 
@@ -147,7 +164,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explore_max_elevation_rad), InRange(-1.5707963267948966,
                                                           1.5707963267948966));
     a->Visit(DMPL_NVP(explore_face_partner_rad), InRange(0, 3.141592653589793));
-    a->Visit(DMPL_NVP(explorer_support_slack_rad), InRange(0, 3.141592653589793));
+    a->Visit(DMPL_NVP(explorer_support));
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
   }

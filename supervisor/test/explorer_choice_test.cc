@@ -58,6 +58,17 @@ TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesM
   // Friction (0.5 of pushes of at most 2.5 N) holds what the pair above leaves; the pair of
   // fingers 0 and 2 holds more, finger 2's push carrying part of the weight.
   EXPECT_GT(by_support.support_n, by_support.furthest_support_n + 0.5);
+  // While the furthest's absence leaves what the grasp needs, the reach rule stands.
+  const double left = by_support.furthest_support_n;
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left - 0.01).finger, 2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left + 0.01).finger, 1);
+  // Finger 2's contact lies 0.2 rad toward the palm, where its links near the sphere: with the
+  // limit at 0.1 rad it moves whatever the others hold without it; at 0.3 rad the support rules.
+  EXPECT_NEAR(PalmSideElevation(2, grasp.view), -0.2, 1e-9);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left + 0.01, 0.1).finger,
+            2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left + 0.01, 0.3).finger,
+            1);
 
   // No slack, a slack that does not reach finger 0, or gravity not sensed: the reach rule.
   EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.0).finger, 2);
