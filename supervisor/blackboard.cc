@@ -51,15 +51,12 @@ Eigen::Quaterniond Blackboard::SensedOrientation() const {
 }
 
 void Blackboard::LearnSurface() {
-  // A reading lighter than this, or a point not on the tip sphere, is not taken as a contact.
-  constexpr double kMinForceN = 0.05;
-  constexpr double kMinRadiusM = 0.002, kMaxRadiusM = 0.03;
   if (edge_detectors.size() != view.fingers.size()) edge_detectors.resize(view.fingers.size());
   for (size_t k = 0; k < view.fingers.size(); ++k) {
     const FingerView& f = view.fingers[k];
     const Eigen::Vector3d into = f.contact - f.tip;  // into the object
     const double radius = into.norm();
-    if (!f.in_contact || f.force < kMinForceN || !(radius > kMinRadiusM && radius < kMaxRadiusM)) {
+    if (!f.SensesPoint()) {
       edge_detectors[k].Reset();
       continue;
     }

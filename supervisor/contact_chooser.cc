@@ -49,7 +49,7 @@ std::vector<SupportContact> GripContacts(const ControllerView& view, int lifted)
   for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
     const FingerView& v = view.fingers[k];
     const Eigen::Vector3d inward = v.contact - v.tip;  // the tip sphere's normal into the object
-    if (k == lifted || !v.in_contact || inward.norm() < 1e-6) continue;
+    if (k == lifted || !v.SensesPoint()) continue;
     contacts.push_back({v.contact, inward.normalized()});
   }
   return contacts;

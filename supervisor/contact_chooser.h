@@ -60,8 +60,9 @@ struct ContactChoice {
   const ContactCandidate& chosen() const { return candidates[index]; }
 };
 
-// The contacts of the fingers in contact but `lifted` (-1: none) as the grasp-support plan takes
-// them: each at its sensed point, its normal the tip sphere's into the object.
+// The contacts of the fingers with a sensed point (FingerView::SensesPoint) but `lifted` (-1:
+// none) as the grasp-support plan takes them: each at its point, its normal the tip sphere's
+// into the object.
 std::vector<SupportContact> GripContacts(const ControllerView& view, int lifted);
 
 class ContactChooser {

@@ -48,7 +48,7 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
 double PalmSideElevation(int f, const ControllerView& view) {
   const FingerView& v = view.fingers[f];
   const Eigen::Vector3d out = v.contact - view.object.translation();
-  if (!v.in_contact || out.norm() < 1e-9) return 0.0;
+  if (!v.SensesPoint() || out.norm() < 1e-9) return 0.0;
   return std::asin(std::clamp(out.normalized().x(), -1.0, 1.0));
 }
 

@@ -5,9 +5,16 @@
 
 namespace dmpl {
 
+bool FingerView::SensesPoint() const {
+  constexpr double kMinForceN = 0.05;
+  constexpr double kMinRadiusM = 0.002, kMaxRadiusM = 0.03;
+  const double radius = (contact - tip).norm();
+  return in_contact && force >= kMinForceN && radius > kMinRadiusM && radius < kMaxRadiusM;
+}
+
 double FingerView::ContactAngle() const {
   const Eigen::Vector3d into = contact - tip;
-  if (!in_contact || into.norm() < 1e-3) return 0.0;
+  if (!SensesPoint()) return 0.0;
   return std::acos(std::clamp(tip_axis.dot(into.normalized()), -1.0, 1.0));
 }
 

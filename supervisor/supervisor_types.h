@@ -34,9 +34,14 @@ struct FingerView {
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();      // the tip sphere's centre (palm frame)
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();  // the sensed contact point, in contact
   Eigen::Vector3d tip_axis = Eigen::Vector3d::UnitZ();  // the distal link's direction (unit)
+  // Whether `contact` is a point sensed now: in contact, a reading of at least 0.05 N, on the
+  // tip sphere (2-30 mm from its centre). The controller holds `in_contact` through a short
+  // loss (its debounce) while the sensor already reports no point (zeros): such a finger still
+  // grips, but its point is no contact.
+  bool SensesPoint() const;
   // The angle between the tip's axis and the normal into the object at its contact (0: it
   // touches with its front; near 90 deg and beyond, with the side next to its distal link,
-  // which touches next). 0 without a contact.
+  // which touches next). 0 without a sensed point (SensesPoint).
   double ContactAngle() const;
 };
 

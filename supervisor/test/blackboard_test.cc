@@ -56,6 +56,12 @@ TEST(BlackboardTest, AContactsAngleRunsFromTheTipsAxisToTheNormalIntoTheObject) 
   FingerView free = Touching(centre, y, -y);
   free.in_contact = false;
   EXPECT_EQ(free.ContactAngle(), 0.0);
+  // Still in contact for the controller's debounce, the point already gone (zeros, 0 N).
+  FingerView losing = Touching(centre, y, back);
+  losing.contact.setZero();
+  losing.force = 0.0;
+  EXPECT_FALSE(losing.SensesPoint());
+  EXPECT_EQ(losing.ContactAngle(), 0.0);
 }
 
 }  // namespace

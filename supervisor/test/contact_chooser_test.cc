@@ -38,6 +38,7 @@ Grasp SphereGrasp() {
     FingerView v;
     v.tip_axis = kTipAxes[f].normalized();
     v.in_contact = true;
+    v.force = 1.0;
     v.tip = kCentre + (kRadius + kTipRadius) * d;
     v.contact = kCentre + kRadius * d;
     g.view.fingers.push_back(v);

@@ -1,5 +1,7 @@
 #include "supervisor/explorer_choice.h"
 
+#include "supervisor/contact_chooser.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,6 +27,7 @@ struct Grasp {
       const Eigen::Vector3d d =
           std::cos(elevation[k]) * level + std::sin(elevation[k]) * Eigen::Vector3d::UnitX();
       view.fingers[k].in_contact = true;
+      view.fingers[k].force = 2.0;
       view.fingers[k].contact = kObjectRadius * d;
       view.fingers[k].tip = (kObjectRadius + kTipRadius) * d;
     }
@@ -78,6 +81,23 @@ TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesM
   EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, weightless, kLimits, 0.06).finger, 2);
   // The finger skipped (exploring now) is never chosen: finger 3 then.
   EXPECT_EQ(NextExplorer(g, kAxis, 0.1, 1, grasp.view, kLimits, 0.06).finger, 3);
+}
+
+TEST(ExplorerChoiceTest, AFingerWithoutASensedPointCountsForNoSupport) {
+  // Finger 1 lost its contact a moment ago: the controller still says in contact (its debounce),
+  // the sensor reports no point (zeros, 0 N). The grasp is the three others', not a fourth
+  // contact at the palm's origin.
+  Grasp grasp({0.0, 0.15, -0.2, 0.15});
+  const Eigen::Vector3d down = grasp.view.gravity;
+  const Grasp three({0.0, 0.15, -0.2, 0.15});
+  grasp.view.fingers[1].contact.setZero();
+  grasp.view.fingers[1].force = 0.0;
+  EXPECT_FALSE(grasp.view.fingers[1].SensesPoint());
+  EXPECT_EQ(GripContacts(grasp.view, -1).size(), 3u);
+  EXPECT_NEAR(SupportAlong(GripContacts(grasp.view, -1), down, Eigen::Vector3d::Zero(), kLimits),
+              SupportAlong(GripContacts(three.view, 1), down, Eigen::Vector3d::Zero(), kLimits),
+              1e-9);
+  EXPECT_EQ(PalmSideElevation(1, grasp.view), 0.0);
 }
 
 TEST(ExplorerChoiceTest, OnALevelGraspTheReachRuleStands) {

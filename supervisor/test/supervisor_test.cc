@@ -290,7 +290,10 @@ TEST(SupervisorTest, AFingerLeavingToExploreSaysWhatTheOthersHoldAgainstGravity)
   Driver d("fig10_gait", tp);
   PlaceTips(&d, 0.037);
   const Eigen::Vector3d c = d.view.object.translation();
-  for (auto& f : d.view.fingers) f.contact = c + (f.tip - c) * (0.025 / 0.037);
+  for (auto& f : d.view.fingers) {
+    f.contact = c + (f.tip - c) * (0.025 / 0.037);
+    f.force = 1.0;
+  }
   d.view.gravity = Eigen::Vector3d::UnitZ();
   d.Grasp();
   auto held = [&](const std::string& finger) {
