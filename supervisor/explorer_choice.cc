@@ -23,6 +23,14 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
   choice.finger = choice.furthest;
   if (choice.furthest < 0 || !(slack_rad > 0) || view.gravity.norm() < 0.5) return choice;
   if (PalmSideElevation(choice.furthest, view) < -palm_side_rad) return choice;
+  // A finger held in contact without a sensed point (the controller's debounce: a finger that
+  // just stopped exploring reads nothing for a moment) leaves the grasp unknown: no verdict.
+  for (const FingerView& v : view.fingers) {
+    if (v.in_contact && !v.SensesPoint()) {
+      choice.grasp_unknown = true;
+      return choice;
+    }
+  }
   const Eigen::Vector3d centre = view.object.translation();
   const Eigen::Vector3d down = view.gravity.normalized();
   auto support_without = [&](int k) {

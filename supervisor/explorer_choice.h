@@ -21,6 +21,8 @@ struct ExplorerChoice {
   int furthest = -1;   // the reach rule's finger
   double support_n = 0.0;           // what the others hold along gravity without `finger`
   double furthest_support_n = 0.0;  // and without `furthest`
+  // A finger in contact had no sensed point: the support rule gave no verdict (ask again).
+  bool grasp_unknown = false;
 };
 
 // The next explorer (not `skip`; -1: none) for a step of `step` rad about `axis`: of the
@@ -28,8 +30,9 @@ struct ExplorerChoice {
 // the one whose lifting leaves the most support along view.gravity within `limits`. The
 // furthest while its absence leaves at least `need_n`, while its contact lies more than
 // `palm_side_rad` toward the palm from the level through the centre (PalmSideElevation: its
-// links come near the object there, and it must move), on a tie, with `slack_rad` 0, or while
-// gravity is not sensed.
+// links come near the object there, and it must move), while a finger in contact has no
+// sensed point (FingerView::SensesPoint: the grasp is not known), on a tie, with `slack_rad` 0,
+// or while gravity is not sensed.
 ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis,
                             double step, int skip, const ControllerView& view,
                             const SupportLimits& limits, double slack_rad,

@@ -77,6 +77,7 @@ double Gait::StepSpeed() const {
 
 void Gait::Explore(const std::string& finger) {
   const int f = board_->Finger(finger);
+  pending_choice_.pending = false;
   explorer_ = f;
   phase_since_ = board_->now;
   board_->reached[f] = false;
@@ -240,11 +241,11 @@ void Gait::PreferFingerAtRisk(int skip) {
 
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
   const SupportParams& p = params_.support;
-  const ExplorerChoice next = NextExplorer(geometry_, axis, step, skip, board_->view,
-                                           {p.friction, 0.0, p.max_push_n},
-                                           params_.explorer_support.slack_rad,
-                                           params_.explorer_support.need_n,
-                                           params_.explorer_support.palm_side_rad);
+  const ExplorerSupportParams& e = params_.explorer_support;
+  const ExplorerChoice next =
+      NextExplorer(geometry_, axis, step, skip, board_->view, {p.friction, 0.0, p.max_push_n},
+                   e.slack_rad, e.need_n, e.palm_side_rad);
+  pending_choice_ = {next.grasp_unknown, axis, step, skip};
   if (next.finger < 0) return;
   if (next.finger != next.furthest && board_->fingers[next.finger] != regrasp_.next_explorer()) {
     board_->Note(board_->fingers[next.finger] + " explores next, not " +
@@ -331,6 +332,9 @@ bool Gait::TickGoals() {
 void Gait::Tick() {
   const double in_phase = board_->now - phase_since_;
   if (params_.has_goals() && !TickGoals()) return;
+  if (pending_choice_.pending) {
+    ChooseNextExplorer(pending_choice_.axis, pending_choice_.step, pending_choice_.skip);
+  }
   if (regrasp_.exploring()) {
     TickExplore(in_phase);
   } else if (regrasp_.rotating()) {

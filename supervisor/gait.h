@@ -71,6 +71,9 @@ class Gait : private RegraspActions {
   Eigen::Vector3d StepAxis() const;  // the axis the next step turns about
   double StepSize() const;           // the task's step, or less (GaitGeometry::StepLimit)
   bool StepDone(double in_phase) const;
+  // The next explorer for a step of `step` about `axis` (task.explorer_support; explorer_choice.h).
+  // Asked again each tick until the next explore while the grasp is not known yet (a finger
+  // that just explored reads no point for a moment).
   void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
   // params.max_contact_angle_rad: the finger (not `skip`) that touched with a link since it
   // explored, else the one touching furthest beyond the angle, explores next.
@@ -114,6 +117,14 @@ class Gait : private RegraspActions {
   double step_ = 0.0;        // the rotation step under way
   double step_limit_ = 0.0;  // StepLimit at the last explore (0: none)
   ExploreState explore_;
+  // ChooseNextExplorer's question while its answer waits for the grasp to be known.
+  struct PendingChoice {
+    bool pending = false;
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+    double step = 0.0;
+    int skip = -1;
+  };
+  PendingChoice pending_choice_;
   // Per finger: whether it stopped a step with its links (StepClearOfLinks), and was placed
   // again since.
   enum class LinkBlock { kNone, kBlocked, kPlaced };

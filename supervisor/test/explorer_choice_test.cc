@@ -98,6 +98,12 @@ TEST(ExplorerChoiceTest, AFingerWithoutASensedPointCountsForNoSupport) {
               SupportAlong(GripContacts(three.view, 1), down, Eigen::Vector3d::Zero(), kLimits),
               1e-9);
   EXPECT_EQ(PalmSideElevation(1, grasp.view), 0.0);
+  // And the support rule gives no verdict on a grasp it does not know: the reach rule's finger.
+  const ExplorerChoice choice =
+      NextExplorer(grasp.Geometry(), kAxis, 0.1, -1, grasp.view, kLimits, 0.06);
+  EXPECT_EQ(choice.finger, 2);
+  EXPECT_EQ(choice.finger, choice.furthest);
+  EXPECT_TRUE(choice.grasp_unknown);
 }
 
 TEST(ExplorerChoiceTest, OnALevelGraspTheReachRuleStands) {
