@@ -16,13 +16,13 @@ constexpr double kMoreSupportN = 0.05;
 ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis_in,
                             double step, int skip, const ControllerView& view,
                             const SupportLimits& limits, double slack_rad, double need_n,
-                            double palm_side_rad, bool furthest_waited) {
+                            double palm_side_rad) {
   ExplorerChoice choice;
   const Eigen::Vector3d axis = axis_in.normalized();
   choice.furthest = geometry.FurthestFromHome(axis, step, skip, view);
   choice.finger = choice.furthest;
   if (choice.furthest < 0 || !(slack_rad > 0) || view.gravity.norm() < 0.5) return choice;
-  if (furthest_waited || PalmSideElevation(choice.furthest, view) < -palm_side_rad) return choice;
+  if (PalmSideElevation(choice.furthest, view) < -palm_side_rad) return choice;
   // A finger held in contact without a sensed point (the controller's debounce: a finger that
   // just stopped exploring reads nothing for a moment) leaves the grasp unknown: no verdict.
   for (const FingerView& v : view.fingers) {

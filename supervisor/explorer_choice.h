@@ -31,14 +31,13 @@ struct ExplorerChoice {
 // furthest while its absence leaves at least `need_n`, while its contact lies more than
 // `palm_side_rad` toward the palm from the level through the centre (PalmSideElevation: its
 // links come near the object there, and it must move), while a finger in contact has no
-// sensed point (FingerView::SensesPoint: the grasp is not known), when the furthest already
-// waited its turn once (`furthest_waited`: it rides on toward its workspace's edge, where its
-// links meet the object), on a tie, with `slack_rad` 0, or while gravity is not sensed.
+// sensed point (FingerView::SensesPoint: the grasp is not known), on a tie, with `slack_rad` 0,
+// or while gravity is not sensed.
 ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis,
                             double step, int skip, const ControllerView& view,
                             const SupportLimits& limits, double slack_rad,
                             double need_n = std::numeric_limits<double>::infinity(),
-                            double palm_side_rad = M_PI / 2, bool furthest_waited = false);
+                            double palm_side_rad = M_PI / 2);
 
 // The elevation (rad) of finger `f`'s contact above the plane through the object's centre
 // parallel to the palm (palm frame: x is the palm's normal): negative toward the palm. 0 when

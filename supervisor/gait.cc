@@ -31,7 +31,6 @@ Gait::Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const Task
       report_(std::move(report)),
       chooser_(chooser),
       geometry_(board->home, board->home_centre, spec, params.max_finger_deviation_rad),
-      waited_(board->fingers.size(), false),
       link_block_(board->fingers.size(), LinkBlock::kNone),
       regrasp_(this, board->fingers, spec.order, params.turn.mode, params.grip_while_turning) {}
 
@@ -79,10 +78,6 @@ double Gait::StepSpeed() const {
 void Gait::Explore(const std::string& finger) {
   const int f = board_->Finger(finger);
   pending_choice_.pending = false;
-  // The finger the support rule let wait for this explore waits no second time in a row.
-  if (passed_over_ >= 0 && passed_over_ != f) waited_[passed_over_] = true;
-  waited_[f] = false;
-  passed_over_ = -1;
   explorer_ = f;
   phase_since_ = board_->now;
   board_->reached[f] = false;
@@ -247,14 +242,11 @@ void Gait::PreferFingerAtRisk(int skip) {
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
   const SupportParams& p = params_.support;
   const ExplorerSupportParams& e = params_.explorer_support;
-  const int furthest = geometry_.FurthestFromHome(axis, step, skip, board_->view);
-  const bool waited = furthest >= 0 && waited_[furthest];
   const ExplorerChoice next =
       NextExplorer(geometry_, axis, step, skip, board_->view, {p.friction, 0.0, p.max_push_n},
-                   e.slack_rad, e.need_n, e.palm_side_rad, waited);
+                   e.slack_rad, e.need_n, e.palm_side_rad);
   pending_choice_ = {next.grasp_unknown, axis, step, skip};
   if (next.finger < 0) return;
-  passed_over_ = next.finger != next.furthest ? next.furthest : -1;
   if (next.finger != next.furthest && board_->fingers[next.finger] != regrasp_.next_explorer()) {
     board_->Note(board_->fingers[next.finger] + " explores next, not " +
                  board_->fingers[next.furthest] + ": the others hold " + Fixed(next.support_n) +

@@ -125,8 +125,6 @@ class Gait : private RegraspActions {
     int skip = -1;
   };
   PendingChoice pending_choice_;
-  int passed_over_ = -1;  // the finger the last choice let wait (-1: none)
-  std::vector<bool> waited_;  // per finger: it waited its turn once and has not explored since
   // Per finger: whether it stopped a step with its links (StepClearOfLinks), and was placed
   // again since.
   enum class LinkBlock { kNone, kBlocked, kPlaced };
