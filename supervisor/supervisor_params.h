@@ -30,7 +30,10 @@ struct SupportParams {
 // explores instead, of those the step takes within `slack_rad` of the furthest's deviation;
 // unless the furthest's contact lies more than `palm_side_rad` toward the palm from the level
 // through the centre, where its links come near the object. Needs max_finger_deviation_rad
-// (random goals). 0, the default: the reach rule alone.
+// (random goals). 0, the default: the reach rule alone. Slack 0.35 with a need of 2 N wins the
+// slick and heavy spheres in both engines and loses nominal runs in MuJoCo: a finger kept
+// gripping for its support rides on toward its links (docs/benchmarks.md, "The next explorer
+// chosen by the support the others keep").
 struct ExplorerSupportParams {
   double slack_rad = 0.0;
   double need_n = 1e9;  // N: the support below which the reach rule gives way (default: always)
