@@ -40,8 +40,8 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
                             double palm_side_rad = M_PI / 2);
 
 // The elevation (rad) of finger `f`'s contact above the plane through the object's centre
-// parallel to the palm (palm frame: x is the palm's normal): negative toward the palm. 0 when
-// the finger is not in contact.
+// parallel to the palm (palm frame: x is the palm's normal): negative toward the palm. 0
+// without a sensed point (FingerView::SensesPoint).
 double PalmSideElevation(int f, const ControllerView& view);
 
 }  // namespace dmpl

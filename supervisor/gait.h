@@ -71,7 +71,8 @@ class Gait : private RegraspActions {
   Eigen::Vector3d StepAxis() const;  // the axis the next step turns about
   double StepSize() const;           // the task's step, or less (GaitGeometry::StepLimit)
   bool StepDone(double in_phase) const;
-  // The next explorer for a step of `step` about `axis` (task.explorer_support; explorer_choice.h).
+  // The next explorer for a step of `step` about `axis` (task.explorer_support,
+  // explorer_choice.h).
   // Asked again each tick until the next explore while the grasp is not known yet (a finger
   // that just explored reads no point for a moment).
   void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
