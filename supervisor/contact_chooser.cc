@@ -55,6 +55,11 @@ std::vector<SupportContact> GripContacts(const ControllerView& view, int lifted)
   return contacts;
 }
 
+double SupportWithout(const ControllerView& view, int lifted, const SupportLimits& limits) {
+  return SupportAlong(GripContacts(view, lifted), view.gravity.normalized(),
+                      view.object.translation(), limits);
+}
+
 ContactChooser::ContactChooser(const HandModel& model, ContactChoiceParams params,
                                SupportLimits limits)
     : params_(params),

@@ -64,6 +64,9 @@ struct ContactChoice {
 // none) as the grasp-support plan takes them: each at its point, its normal the tip sphere's
 // into the object.
 std::vector<SupportContact> GripContacts(const ControllerView& view, int lifted);
+// What those contacts can hold along the sensed gravity about the sensed centre (SupportAlong),
+// N: the grasp's support while finger `lifted` is away.
+double SupportWithout(const ControllerView& view, int lifted, const SupportLimits& limits);
 
 class ContactChooser {
  public:

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "supervisor/contact_chooser.h"  // GripContacts
+#include "supervisor/contact_chooser.h"  // SupportWithout
 
 namespace dmpl {
 
@@ -31,20 +31,15 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
       return choice;
     }
   }
-  const Eigen::Vector3d centre = view.object.translation();
-  const Eigen::Vector3d down = view.gravity.normalized();
-  auto support_without = [&](int k) {
-    return SupportAlong(GripContacts(view, k), down, centre, limits);
-  };
   const Eigen::AngleAxisd turn(step, axis);
   const double reach = geometry.Deviation(choice.furthest, turn, view);
-  choice.furthest_support_n = support_without(choice.furthest);
+  choice.furthest_support_n = SupportWithout(view, choice.furthest, limits);
   choice.support_n = choice.furthest_support_n;
   if (choice.furthest_support_n >= need_n) return choice;
   for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
     if (k == skip || k == choice.furthest || !view.fingers[k].in_contact) continue;
     if (geometry.Deviation(k, turn, view) < reach - slack_rad) continue;
-    const double support = support_without(k);
+    const double support = SupportWithout(view, k, limits);
     if (support > choice.support_n + kMoreSupportN) {
       choice.finger = k;
       choice.support_n = support;

@@ -6,7 +6,6 @@
 #include <sstream>
 #include <utility>
 
-#include "components/controller/grasp_support.h"
 #include "supervisor/explorer_choice.h"
 
 namespace dmpl {
@@ -118,7 +117,7 @@ void Gait::Explore(const std::string& finger) {
   if (!board_->view.gravity.isZero()) {
     std::ostringstream note;
     note << std::fixed << std::setprecision(2) << finger << " explores; the others hold "
-         << SupportWithout(f) << " N against gravity";
+         << SupportWithout(board_->view, f, params_.support.Limits()) << " N against gravity";
     if (!chosen.empty()) note << "; " << chosen;
     board_->Note(note.str());
   } else if (!chosen.empty()) {
@@ -214,13 +213,6 @@ void Gait::Grip(const std::string& finger) {
   PreferFingerAtRisk(-1);
 }
 
-double Gait::SupportWithout(int lifted) const {
-  const ControllerView& view = board_->view;
-  const SupportParams& p = params_.support;
-  return SupportAlong(GripContacts(view, lifted), view.gravity, view.object.translation(),
-                      {p.friction, 0.0, p.max_push_n});
-}
-
 void Gait::PreferFingerAtRisk(int skip) {
   if (params_.max_contact_angle_rad <= 0) return;
   int worst = -1;
@@ -240,10 +232,9 @@ void Gait::PreferFingerAtRisk(int skip) {
 }
 
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
-  const SupportParams& p = params_.support;
   const ExplorerSupportParams& e = params_.explorer_support;
   const ExplorerChoice next =
-      NextExplorer(geometry_, axis, step, skip, board_->view, {p.friction, 0.0, p.max_push_n},
+      NextExplorer(geometry_, axis, step, skip, board_->view, params_.support.Limits(),
                    e.slack_rad, e.need_n, e.palm_side_rad);
   pending_choice_ = {next.grasp_unknown, axis, step, skip};
   if (next.finger < 0) return;

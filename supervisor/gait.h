@@ -72,16 +72,12 @@ class Gait : private RegraspActions {
   double StepSize() const;           // the task's step, or less (GaitGeometry::StepLimit)
   bool StepDone(double in_phase) const;
   // The next explorer for a step of `step` about `axis` (task.explorer_support,
-  // explorer_choice.h).
-  // Asked again each tick until the next explore while the grasp is not known yet (a finger
-  // that just explored reads no point for a moment).
+  // explorer_choice.h), asked again each tick until the next explore while the grasp is not
+  // known yet (a finger that just explored reads no point for a moment).
   void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
   // params.max_contact_angle_rad: the finger (not `skip`) that touched with a link since it
   // explored, else the one touching furthest beyond the angle, explores next.
   void PreferFingerAtRisk(int skip);
-  // What the fingers in contact but `lifted` could hold along the sensed gravity (N;
-  // SupportAlong within params.support): said when a finger leaves to explore.
-  double SupportWithout(int lifted) const;
   // `step` (signed, about `axis`), or the part of it that keeps the riding fingers' links out of
   // the felt surface (params.contact_choice.clear_steps); the finger that stops it explores next.
   double StepClearOfLinks(const Eigen::Vector3d& axis, double step);

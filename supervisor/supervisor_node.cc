@@ -219,10 +219,8 @@ Loaded Load(const Config& config) {
   }
   l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
   if (l.task_params.contact_choice.enabled) {
-    const SupportParams& s = l.task_params.support;
     l.chooser = std::make_shared<const ContactChooser>(
-        HandModel::Load(hand), l.task_params.contact_choice,
-        SupportLimits{s.friction, 0.0, s.max_push_n});
+        HandModel::Load(hand), l.task_params.contact_choice, l.task_params.support.Limits());
   }
   return l;
 }

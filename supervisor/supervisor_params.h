@@ -2,6 +2,7 @@
 #include <string>
 #include <vector>
 
+#include "components/controller/grasp_support.h"
 #include "components/runtime/params.h"
 #include "supervisor/goal_planner.h"
 #include "supervisor/turn_mode.h"
@@ -15,6 +16,8 @@ namespace dmpl {
 struct SupportParams {
   double friction = 0.5;    // what the plan relies on: below the objects' usual, above the slick
   double max_push_n = 2.5;  // a finger's push (controller.grip_adaptation.max_grip_force_n)
+
+  SupportLimits Limits() const { return {friction, 0.0, max_push_n}; }
 
   template <typename Archive>
   void Serialize(Archive* a) {
