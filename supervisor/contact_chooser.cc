@@ -204,6 +204,28 @@ double ContactChooser::ClearStep(const Eigen::Vector3d& axis_in, double step, in
   return allowed;
 }
 
+RideMargins ContactChooser::Ride(int f, const Eigen::Vector3d& axis_in, double step,
+                                 const ControllerView& view, const SurfaceModel& surface) const {
+  const Eigen::Vector3d axis = axis_in.normalized();
+  const Eigen::Vector3d centre = view.object.translation();
+  const FingerKinematics& finger = kin_->finger(f);
+  const IkParams ik = PlanningIk();
+  Eigen::VectorXd q = PostureNow(finger, view.fingers[f]);
+  RideMargins m;
+  constexpr int kSamples = 4;
+  for (int i = 1; i <= kSamples; ++i) {
+    const Eigen::AngleAxisd turn(step * i / kSamples, axis);
+    Eigen::Isometry3d turned = view.object;
+    turned.linear() = turn.toRotationMatrix() * view.object.linear();
+    const IkResult r = SolveFingerIk(finger, q, centre + turn * (view.fingers[f].tip - centre), ik);
+    q = r.q;
+    m.reached = m.reached && r.residual_m <= params_.reach_tolerance_m;
+    m.limit_margin_rad = std::min(m.limit_margin_rad, LimitMargin(finger, q));
+    m.link_clearance_m = std::min(m.link_clearance_m, LinkClearance(f, q, surface, turned));
+  }
+  return m;
+}
+
 ContactChoice ContactChooser::Choose(const ContactRequest& request, const ControllerView& view,
                                      const SurfaceModel& surface) const {
   ContactChoice choice;

@@ -53,6 +53,15 @@ struct ContactRequest {
   double min_spacing_m = 0.0;  // between two tips' centres
 };
 
+// What a finger that stays in the grip comes to while it rides a turn (ContactChooser::Ride).
+struct RideMargins {
+  // The least clearance of its links (not its tip) from the felt surface (m; negative: into it);
+  // infinite where the model knows nothing near them.
+  double link_clearance_m = std::numeric_limits<double>::infinity();
+  double limit_margin_rad = std::numeric_limits<double>::infinity();  // of its joints
+  bool reached = true;  // its tip follows the contact all the way
+};
+
 struct ContactChoice {
   int index = 0;  // into candidates; 0 is the gait's point
   std::string why;
@@ -80,6 +89,12 @@ class ContactChooser {
   // `blocking` (may be null): the finger that stops it, -1 when none does.
   double ClearStep(const Eigen::Vector3d& axis, double step, int skip, const ControllerView& view,
                    const SurfaceModel& surface, int* blocking) const;
+  // Finger `f` (in contact) riding a turn of `step` (rad, signed) about `axis` through the
+  // object's centre, its tip turned with the object: its margins, the least over the turn
+  // (sampled in quarters). Whether it can stay in the grip for that turn or must be placed again.
+  RideMargins Ride(int f, const Eigen::Vector3d& axis, double step, const ControllerView& view,
+                   const SurfaceModel& surface) const;
+  const ContactChoiceParams& params() const { return params_; }
 
  private:
   // The candidates' targets: the gait's point, then rings about it (seen from the centre), on

@@ -128,7 +128,9 @@ void Gait::Explore(const std::string& finger) {
 Eigen::Vector3d Gait::ChooseContact(int f, const Eigen::Vector3d& point,
                                     const Eigen::Vector3d& axis, double sign, double rides,
                                     std::string* why) {
-  if (chooser_ == nullptr || board_->tip_radius_m <= 0) return point;
+  if (chooser_ == nullptr || !params_.contact_choice.enabled || board_->tip_radius_m <= 0) {
+    return point;
+  }
   ContactRequest request;
   request.finger = f;
   request.point = point;
@@ -146,7 +148,8 @@ Eigen::Vector3d Gait::ChooseContact(int f, const Eigen::Vector3d& point,
 }
 
 double Gait::StepClearOfLinks(const Eigen::Vector3d& axis, double step) {
-  if (chooser_ == nullptr || !params_.contact_choice.clear_steps) return step;
+  const ContactChoiceParams& c = params_.contact_choice;
+  if (chooser_ == nullptr || !c.enabled || !c.clear_steps) return step;
   int blocking = -1;
   const int skip = regrasp_.exploring() ? explorer_ : -1;
   const double clear =
@@ -238,12 +241,39 @@ void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip
                    e.slack_rad, e.need_n, e.palm_side_rad);
   pending_choice_ = {next.grasp_unknown, axis, step, skip};
   if (next.finger < 0) return;
-  if (next.finger != next.furthest && board_->fingers[next.finger] != regrasp_.next_explorer()) {
-    board_->Note(board_->fingers[next.finger] + " explores next, not " +
-                 board_->fingers[next.furthest] + ": the others hold " + Fixed(next.support_n) +
-                 " N against gravity without it, " + Fixed(next.furthest_support_n) + " N");
+  int finger = next.finger;
+  std::string why;
+  if (finger != next.furthest && !FurthestMayRide(axis, step, next.furthest, &why)) {
+    finger = next.furthest;
   }
-  regrasp_.set_next_explorer(board_->fingers[next.finger]);
+  if (board_->fingers[finger] != regrasp_.next_explorer()) {
+    if (finger != next.furthest) {
+      board_->Note(board_->fingers[finger] + " explores next, not " +
+                   board_->fingers[next.furthest] + ": the others hold " + Fixed(next.support_n) +
+                   " N against gravity without it, " + Fixed(next.furthest_support_n) + " N");
+    } else if (!why.empty()) {
+      board_->Note(board_->fingers[finger] + " explores next, not " +
+                   board_->fingers[next.finger] + ": " + why);
+    }
+  }
+  regrasp_.set_next_explorer(board_->fingers[finger]);
+}
+
+bool Gait::FurthestMayRide(const Eigen::Vector3d& axis, double step, int f,
+                           std::string* why) const {
+  const ExplorerSupportParams& e = params_.explorer_support;
+  if (!e.check_ride || chooser_ == nullptr) return true;
+  const RideMargins m = chooser_->Ride(f, axis, step, board_->view, board_->surface);
+  if (!m.reached) {
+    *why = "riding the step its tip would not follow the object";
+  } else if (m.link_clearance_m < e.ride_clearance_m) {
+    *why = "riding the step its links would come " + Fixed(1e3 * m.link_clearance_m, 1) +
+           " mm off the felt surface";
+  } else if (m.limit_margin_rad < e.ride_limit_margin_rad) {
+    *why = "riding the step its joints would come " + Fixed(m.limit_margin_rad) +
+           " rad from their limits";
+  }
+  return why->empty();
 }
 
 Eigen::Vector3d Gait::StepAxis() const {

@@ -75,6 +75,9 @@ class Gait : private RegraspActions {
   // explorer_choice.h), asked again each tick until the next explore while the grasp is not
   // known yet (a finger that just explored reads no point for a moment).
   void ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip);
+  // Whether finger `f` may stay gripping through `step` about `axis` (explorer_support.check_ride:
+  // ContactChooser::Ride within its margins); `why` says why not.
+  bool FurthestMayRide(const Eigen::Vector3d& axis, double step, int f, std::string* why) const;
   // params.max_contact_angle_rad: the finger (not `skip`) that touched with a link since it
   // explored, else the one touching furthest beyond the angle, explores next.
   void PreferFingerAtRisk(int skip);

@@ -200,7 +200,8 @@ struct Loaded {
   TaskFile tasks;
   TaskParams task_params;
   SupervisorParams params;
-  std::shared_ptr<const ContactChooser> chooser;  // task.contact_choice.enabled
+  // task.contact_choice.enabled or task.explorer_support.check_ride
+  std::shared_ptr<const ContactChooser> chooser;
 };
 
 Loaded Load(const Config& config) {
@@ -218,7 +219,7 @@ Loaded Load(const Config& config) {
                       std::to_string(l.fingers.size()));
   }
   l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
-  if (l.task_params.contact_choice.enabled) {
+  if (l.task_params.contact_choice.enabled || l.task_params.explorer_support.check_ride) {
     l.chooser = std::make_shared<const ContactChooser>(
         HandModel::Load(hand), l.task_params.contact_choice, l.task_params.support.Limits());
   }

@@ -41,12 +41,22 @@ struct ExplorerSupportParams {
   double slack_rad = 0.0;
   double need_n = 1e9;  // N: the support below which the reach rule gives way (default: always)
   double palm_side_rad = 1.5707963267948966;  // (default: anywhere)
+  // With `check_ride`, the furthest finger is kept gripping only while the hand model predicts
+  // (ContactChooser::Ride, on the felt surface) that through the step it then rides its tip
+  // follows the object, its links stay no more than `ride_clearance_m` into the felt surface
+  // and its joints `ride_limit_margin_rad` inside their limits; else it explores all the same.
+  bool check_ride = false;
+  double ride_clearance_m = -0.002;
+  double ride_limit_margin_rad = 0.05;
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(slack_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(need_n), AtLeast(0));
     a->Visit(DMPL_NVP(palm_side_rad), InRange(-1.5707963267948966, 1.5707963267948966));
+    a->Visit(DMPL_NVP(check_ride));
+    a->Visit(DMPL_NVP(ride_clearance_m), InRange(-0.05, 0.05));
+    a->Visit(DMPL_NVP(ride_limit_margin_rad), InRange(0, 1));
   }
 };
 

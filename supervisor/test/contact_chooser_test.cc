@@ -182,5 +182,27 @@ TEST(ContactChooserTest, AStepStopsWhereARidingFingersLinksWouldEnterTheSurface)
   EXPECT_EQ(blocking, -1);
 }
 
+// The same turns finger by finger: the ring finger riding a whole radian about the palm's normal
+// comes with its links into the sphere (as ClearStep found), riding half a radian it stays
+// clear; and every finger riding no turn keeps its links out and its joints inside their limits.
+TEST(ContactChooserTest, ARideNamesTheLinksAndJointsAFingerComesTo) {
+  const HandModel model = testing::LoadHand();
+  const Grasp g = SphereGrasp();
+  const ContactChooser chooser = MakeChooser(model);
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  const RideMargins far = chooser.Ride(3, x, 1.0, g.view, g.surface);
+  EXPECT_LT(far.link_clearance_m, -0.002);
+  const RideMargins half = chooser.Ride(3, x, 0.5, g.view, g.surface);
+  EXPECT_GE(half.link_clearance_m, -0.002);
+  EXPECT_TRUE(half.reached);
+  for (int f = 0; f < 4; ++f) {
+    SCOPED_TRACE(f);
+    const RideMargins still = chooser.Ride(f, x, 0.0, g.view, g.surface);
+    EXPECT_TRUE(still.reached);
+    EXPECT_GT(still.link_clearance_m, 0.0);
+    EXPECT_GT(still.limit_margin_rad, 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace dmpl
