@@ -94,7 +94,6 @@ class ContactChooser {
   // (sampled in quarters). Whether it can stay in the grip for that turn or must be placed again.
   RideMargins Ride(int f, const Eigen::Vector3d& axis, double step, const ControllerView& view,
                    const SurfaceModel& surface) const;
-  const ContactChoiceParams& params() const { return params_; }
 
  private:
   // The candidates' targets: the gait's point, then rings about it (seen from the centre), on
