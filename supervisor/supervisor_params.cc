@@ -19,6 +19,11 @@ void TaskParams::Validate(const std::string& source) const {
     fail(choice.clear_steps ? "contact_choice.clear_steps" : "contact_choice.extend_surface_m",
          "needs task.contact_choice.enabled: true (the chooser's IK and link model)");
   }
+  if (explorer_support.check_ride && !(explorer_support.slack_rad > 0)) {
+    fail("explorer_support.check_ride",
+         "needs task.explorer_support.slack_rad > 0 (it checks the finger the support rule keeps "
+         "gripping; without the rule there is none)");
+  }
 }
 
 bool TaskParams::has_goals() const { return !goals.empty() || random_goals > 0; }

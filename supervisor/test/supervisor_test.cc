@@ -512,6 +512,15 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
               t->contact_choice.clear_steps = true;
             }),
             "");
+  EXPECT_NE(error([](TaskParams* t) { t->explorer_support.check_ride = true; })
+                .find("key 'task.explorer_support.check_ride': needs "
+                      "task.explorer_support.slack_rad > 0"),
+            std::string::npos);
+  EXPECT_EQ(error([](TaskParams* t) {
+              t->explorer_support.check_ride = true;
+              t->explorer_support.slack_rad = 0.35;
+            }),
+            "");
   EXPECT_EQ(error([](TaskParams*) {}), "");
 }
 
