@@ -37,6 +37,13 @@ double LimitMargin(const FingerKinematics& finger, const Eigen::VectorXd& q) {
   return std::min((q - finger.lower()).minCoeff(), (finger.upper() - q).minCoeff());
 }
 
+// The object's pose after `turn` about its own centre (the centre stays, the contacts ride).
+Eigen::Isometry3d TurnedInPlace(const Eigen::Isometry3d& object, const Eigen::AngleAxisd& turn) {
+  Eigen::Isometry3d turned = object;
+  turned.linear() = turn.toRotationMatrix() * object.linear();
+  return turned;
+}
+
 // The six directions of the palm frame a grasp is asked to hold a load along.
 const Eigen::Vector3d kLoadDirections[] = {Eigen::Vector3d::UnitX(),  -Eigen::Vector3d::UnitX(),
                                            Eigen::Vector3d::UnitY(),  -Eigen::Vector3d::UnitY(),
@@ -142,8 +149,7 @@ void ContactChooser::Assess(int f, const Eigen::VectorXd& seed, const ContactReq
   const IkResult there = SolveFingerIk(finger, seed, c->tip, ik);
   // After the turn the object's centre stays and the contact rides with it.
   const Eigen::Vector3d centre = view.object.translation();
-  Eigen::Isometry3d turned = view.object;
-  turned.linear() = request.ride.toRotationMatrix() * view.object.linear();
+  const Eigen::Isometry3d turned = TurnedInPlace(view.object, request.ride);
   const Eigen::Vector3d tip_after = centre + request.ride * (c->tip - centre);
   const IkResult after = SolveFingerIk(finger, there.q, tip_after, ik);
   c->joints = there.q;
@@ -189,8 +195,7 @@ double ContactChooser::ClearStep(const Eigen::Vector3d& axis_in, double step, in
   for (int i = 1; i <= kSamples; ++i) {
     const double phi = step * i / kSamples;
     const Eigen::AngleAxisd turn(phi, axis);
-    Eigen::Isometry3d turned = view.object;
-    turned.linear() = turn.toRotationMatrix() * view.object.linear();
+    const Eigen::Isometry3d turned = TurnedInPlace(view.object, turn);
     for (Rider& r : riders) {
       const Eigen::Vector3d tip = centre + turn * (view.fingers[r.finger].tip - centre);
       r.q = SolveFingerIk(kin_->finger(r.finger), r.q, tip, ik).q;
@@ -215,8 +220,7 @@ RideMargins ContactChooser::Ride(int f, const Eigen::Vector3d& axis_in, double s
   constexpr int kSamples = 4;
   for (int i = 1; i <= kSamples; ++i) {
     const Eigen::AngleAxisd turn(step * i / kSamples, axis);
-    Eigen::Isometry3d turned = view.object;
-    turned.linear() = turn.toRotationMatrix() * view.object.linear();
+    const Eigen::Isometry3d turned = TurnedInPlace(view.object, turn);
     const IkResult r = SolveFingerIk(finger, q, centre + turn * (view.fingers[f].tip - centre), ik);
     q = r.q;
     m.reached = m.reached && r.residual_m <= params_.reach_tolerance_m;
