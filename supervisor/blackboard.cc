@@ -10,6 +10,8 @@ Blackboard::Blackboard(std::vector<std::string> finger_names)
     : fingers(std::move(finger_names)),
       reached(fingers.size(), false),
       link_touched(fingers.size(), false),
+      on_link(fingers.size(), false),
+      on_link_since(fingers.size(), 0.0),
       home(fingers.size(), Eigen::Vector3d::Zero()) {
   out.task.fingers.resize(fingers.size());
   out.task.name = "idle";

@@ -24,7 +24,12 @@ void FingerReplacer::Tick(double recovery_since) {
     const bool touching = board_->view.fingers[f].in_contact;
     switch (stage_[f]) {
       case Stage::kNone:
-        if (!touching && now - recovery_since > params_.replace_after_s) Lift(f);
+        // On a link that long: at once (the recovery may have begun for it, LinkRest).
+        if (OnLink(f) && now - board_->on_link_since[f] > params_.replace_after_s) {
+          Lift(f, ": its links touch");
+        } else if (!touching && now - recovery_since > params_.replace_after_s) {
+          Lift(f, "");
+        }
         break;
       case Stage::kLift:
         if (board_->reached[f] || since > 1.0) MoveOverHome(f);
@@ -40,7 +45,12 @@ void FingerReplacer::Tick(double recovery_since) {
   }
 }
 
-void FingerReplacer::Lift(int f) {
+bool FingerReplacer::OnLink(int f) const {
+  return params_.replace_on_link && board_->on_link[f] &&
+         board_->out.task.fingers[f].role == Role::kGrip;
+}
+
+void FingerReplacer::Lift(int f, const std::string& why) {
   // Off the surface along the line from the centre.
   const Eigen::Vector3d& tip = board_->view.fingers[f].tip;
   Eigen::Vector3d out = tip - board_->view.object.translation();
@@ -48,15 +58,27 @@ void FingerReplacer::Lift(int f) {
   const Eigen::Vector3d target = tip + params_.replace_lift_m * out.normalized();
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
+  // Lifted, its links touch nothing: a LINK_RELEASED lost on the way (real time) leaves no
+  // stale touch behind to begin another recovery.
+  board_->on_link[f] = false;
   stage_[f] = Stage::kLift;
   since_[f] = board_->now;
-  board_->Note("placing finger " + board_->fingers[f] + " again");
+  board_->Note("placing finger " + board_->fingers[f] + " again" + why);
 }
 
 void FingerReplacer::MoveOverHome(int f) {
   const Eigen::Vector3d home = board_->home[f] - board_->home_centre;
-  const Eigen::Vector3d target = board_->view.object.translation() +
-                                 home.normalized() * (home.norm() + params_.replace_lift_m);
+  const Eigen::Vector3d out = home.normalized();
+  // As far out as its home, or as the felt surface lies there if that is further (a long
+  // object turned across the finger's home direction): not through the object.
+  double reach = home.norm();
+  const Eigen::Matrix3d to_palm = board_->view.object.linear();
+  const SurfacePoint s = board_->surface.Along(to_palm.transpose() * out);
+  if (s.known && board_->tip_radius_m > 0) {
+    reach = std::max(reach, s.distance_m + 2.0 * s.sigma_m + board_->tip_radius_m);
+  }
+  const Eigen::Vector3d target =
+      board_->view.object.translation() + out * (reach + params_.replace_lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
   stage_[f] = Stage::kOver;

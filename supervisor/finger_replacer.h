@@ -1,9 +1,12 @@
 #pragma once
 // In a recovery, a grip finger that does not touch again is placed again
 // (supervisor.replace_after_s): lifted off along the line from the object's centre, moved over
-// its home as far out, and brought in by a grip. A finger that lost its contact far from home
+// its home as far out (or out of the felt surface there, if that lies further), and brought in
+// by a grip. A finger that lost its contact far from home
 // often rests on the object with a link (no tactile sensor there) and would press on it forever
-// with its tip just short of the surface.
+// with its tip just short of the surface; so would one that touches with a link while its tip
+// touches too (supervisor.replace_on_link).
+#include <string>
 #include <vector>
 
 #include "supervisor/blackboard.h"
@@ -23,7 +26,8 @@ class FingerReplacer {
 
  private:
   enum class Stage { kNone, kLift, kOver, kIn };
-  void Lift(int f);
+  bool OnLink(int f) const;  // a grip finger whose links touch, to be placed again
+  void Lift(int f, const std::string& why);
   void MoveOverHome(int f);
   void BringIn(int f);
 

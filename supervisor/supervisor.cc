@@ -109,7 +109,13 @@ void Supervisor::OnControllerEvents(const std::vector<ControllerEvent>& events) 
         board_.motion_done_event = true;
         break;
       case EventType::kLinkContact:
-        if (e.finger >= 0) board_.link_touched[e.finger] = true;
+        if (e.finger >= 0) {
+          if (!board_.on_link[e.finger]) board_.on_link_since[e.finger] = board_.now;
+          board_.link_touched[e.finger] = board_.on_link[e.finger] = true;
+        }
+        break;
+      case EventType::kLinkReleased:
+        if (e.finger >= 0) board_.on_link[e.finger] = false;
         break;
       case EventType::kContactLost:
         if (e.finger >= 0 && board_.out.task.fingers[e.finger].role == Role::kGrip &&
@@ -168,6 +174,7 @@ void Supervisor::TickGraspChart() {
       if (now - state_since_ >= g.settle_s) grasp_.Process(GraspEvent::Settled);
       break;
     case GraspState::Tasks:
+      if (CheckLinkRest()) break;
       GaitUnderWay() ? gait_.Tick() : local_.Tick(task());
       break;
     case GraspState::Recovering:
@@ -207,6 +214,22 @@ void Supervisor::TickRecovery() {
   } else if (InState(GraspState::Recovering, params_.recovery_timeout_s)) {
     grasp_.Process(GraspEvent::Timeout, {"no stable grasp within the recovery timeout"});
   }
+}
+
+// A grip finger resting on a link (supervisor.replace_on_link) longer than replace_after_s: its
+// force loop pushes the object through the link, and a step it rides does not finish. The
+// recovery lifts it and places it again on its tip (FingerReplacer).
+bool Supervisor::CheckLinkRest() {
+  if (!params_.replace_on_link) return false;
+  for (int f = 0; f < board_.num_fingers(); ++f) {
+    if (board_.on_link[f] && board_.out.task.fingers[f].role == Role::kGrip &&
+        board_.now - board_.on_link_since[f] > params_.replace_after_s) {
+      grasp_.Process(GraspEvent::LinkRest,
+                     {"finger " + board_.fingers[f] + " rests on a link", f});
+      return true;
+    }
+  }
+  return false;
 }
 
 bool Supervisor::GaitUnderWay() const {

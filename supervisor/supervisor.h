@@ -95,6 +95,7 @@ class Supervisor {
   void TickEnded();
   bool InState(GraspState s, double longer_than_s) const;
   const CTask& task() const { return tasks_.tasks[task_index_]; }
+  bool CheckLinkRest();  // a grip finger on its link too long: recover (true)
   bool GaitUnderWay() const;
 
   std::shared_ptr<const ContactChooser> chooser_;  // before the gait that points at it

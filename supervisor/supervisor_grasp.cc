@@ -61,6 +61,8 @@ Supervisor::GraspChart Supervisor::BuildGraspChart() {
       {S::Tasks,       E::ContactLost,   a.can_recover,    a.regrip,           S::Recovering},
       {S::Tasks,       E::Slip,          a.can_recover,    a.regrip,           S::Recovering},
       {S::Tasks,       E::ContactLost,   a.cannot_recover, a.fail,             S::Failed},
+      {S::Tasks,       E::LinkRest,      a.can_recover,    a.regrip,           S::Recovering},
+      {S::Tasks,       E::LinkRest,      a.cannot_recover, a.fail,             S::Failed},
       {S::Tasks,       E::Slip,          a.cannot_recover, a.fail,             S::Failed},
       {S::Tasks,       E::GraspLost,     sc::kAlways,      a.fail,             S::Failed},
       {S::Recovering,  E::Recovered,     sc::kAlways,      a.resume,           S::Tasks},

@@ -209,6 +209,10 @@ struct SupervisorParams {
   // on it forever with its tip just short of the surface.
   double replace_after_s = 0.2;
   double replace_lift_m = 0.01;
+  // A grip finger whose links touch (the controller's LINK_CONTACT, not yet released) for
+  // replace_after_s is placed again the same way, in a recovery begun for it if the tasks are
+  // under way (LinkRest): its force loop would push the object through the link.
+  bool replace_on_link = false;
   double stop_after_s = 0.5;            // after the last task (or a failure): stop the simulator
   // Real time: a step of the sensed clock between two reports longer than this is a gap (the
   // sensing path restarted); the supervisor's timeouts do not count it.
@@ -223,6 +227,7 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(recovery_timeout_s), Above(0));
     a->Visit(DMPL_NVP(replace_after_s));
     a->Visit(DMPL_NVP(replace_lift_m), AtLeast(0));
+    a->Visit(DMPL_NVP(replace_on_link));
     a->Visit(DMPL_NVP(stop_after_s), AtLeast(0));
     a->Visit(DMPL_NVP(sensing_gap_s), Above(0));
     a->Visit(DMPL_NVP(status_every_ticks), AtLeast(1));

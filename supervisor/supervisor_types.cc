@@ -44,6 +44,7 @@ const char* ToString(GraspEvent e) {
     case GraspEvent::TaskDone: return "TaskDone";
     case GraspEvent::TaskFailed: return "TaskFailed";
     case GraspEvent::ContactLost: return "ContactLost";
+    case GraspEvent::LinkRest: return "LinkRest";
     case GraspEvent::Slip: return "Slip";
     case GraspEvent::Recovered: return "Recovered";
     case GraspEvent::ProcessLost: return "ProcessLost";

@@ -16,8 +16,8 @@ enum class GraspState {
   ObjectHeld, Approaching, Gripping, Releasing, Settling, Tasks, Recovering, Holding, Done, Failed
 };
 enum class GraspEvent {
-  Start, AllTouching, GraspStable, ReleaseDue, Settled, TaskDone, TaskFailed, ContactLost, Slip,
-  Recovered, ProcessLost, ProcessBack, GraspLost, Timeout
+  Start, AllTouching, GraspStable, ReleaseDue, Settled, TaskDone, TaskFailed, ContactLost, LinkRest,
+  Slip, Recovered, ProcessLost, ProcessBack, GraspLost, Timeout
 };
 const char* ToString(GraspState s);
 const char* ToString(GraspEvent e);

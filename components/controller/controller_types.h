@@ -59,6 +59,7 @@ enum class EventType : int8_t {
   kGraspLost = 8,
   kSlip = 9,
   kLinkContact = 10,  // a finger touches with a link, not its tip (value: the torque, N m)
+  kLinkReleased = 11,  // its links no longer touch (after a kLinkContact)
 };
 
 struct ControllerEvent {

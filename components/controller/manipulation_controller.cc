@@ -188,6 +188,9 @@ void ManipulationController::DetectLinkContacts(const SensedInput& in,
            kin_.finger(f).name() + " touches with a link, " + link.link +
                " or one further out (" + std::to_string(link.torque_nm) +
                " N m its tip does not explain)");
+    } else {
+      Emit(EventType::kLinkReleased, f, 0.0,
+           kin_.finger(f).name() + "'s links no longer touch");
     }
   }
 }

@@ -15,9 +15,10 @@ TaskFile Load(const std::string& name) {
 
 // Drives a Supervisor with scripted controller views.
 struct Driver {
-  explicit Driver(const std::string& task_file, TaskParams tp = {})
-      : Driver(Load(task_file), tp) {}
-  Driver(TaskFile tasks, TaskParams tp) : sup(kFingers, std::move(tasks), tp, SupervisorParams{}) {
+  explicit Driver(const std::string& task_file, TaskParams tp = {}, SupervisorParams sp = {})
+      : Driver(Load(task_file), tp, sp) {}
+  Driver(TaskFile tasks, TaskParams tp, SupervisorParams sp = {})
+      : sup(kFingers, std::move(tasks), tp, sp) {
     view.fingers.resize(4);
     view.object.translation() = Eigen::Vector3d(0.07, 0.0, 0.015);
   }
@@ -440,6 +441,58 @@ TEST(SupervisorTest, RecoveryPlacesAFingerThatDoesNotTouchAgain) {
   d.view.fingers[3].in_contact = true;
   for (int i = 0; i < 20; ++i) d.Tick();
   EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+}
+
+TEST(SupervisorTest, AGripFingerRestingOnALinkIsPlacedAgainOnItsTip) {
+  SupervisorParams sp;
+  sp.replace_on_link = true;
+  Driver d("fig8_rotate", {}, sp);
+  PlaceTips(&d, 0.037);
+  d.Grasp();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  // A touch of M's link that is over within 0.1 s (a slide brushing the object) is let be.
+  d.Event(EventType::kLinkContact, 2);
+  for (int i = 0; i < 10; ++i) d.Tick();
+  d.Event(EventType::kLinkReleased, 2);
+  for (int i = 0; i < 30; ++i) d.Tick();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  // M rests on a link with its tip still touching: after 0.2 s a recovery begins for it.
+  d.Event(EventType::kLinkContact, 2);
+  for (int i = 0; i < 19; ++i) d.Tick();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  for (int i = 0; i < 3 && d.sup.grasp_state() == GraspState::Tasks; ++i) d.Tick();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+  EXPECT_EQ(d.sup.recoveries(), 1);
+  // At once M is lifted off along the line from the centre, though its tip touches...
+  const FingerTask lift = d.Tick().task.fingers[2];
+  EXPECT_EQ(lift.primitive, Primitive::kPosition);
+  EXPECT_LT((lift.target - (d.view.fingers[2].tip + Eigen::Vector3d(0, 0, 0.01))).norm(), 1e-9);
+  EXPECT_NE(d.sup.note().find("placing finger M again: its links touch"), std::string::npos);
+  // ...and the others are not: their links touch nothing.
+  for (int f : {0, 1, 3}) EXPECT_EQ(d.sup.roles()[f], Role::kGrip);
+  // Over its home, in by a grip; the recovery ends once the grasp is stable again.
+  d.view.fingers[2].in_contact = false;
+  d.Event(EventType::kTargetReached, 2);
+  d.Tick();
+  d.Event(EventType::kTargetReached, 2);
+  EXPECT_EQ(d.Tick().task.fingers[2].primitive, Primitive::kComposite);
+  d.view.fingers[2].in_contact = true;
+  for (int i = 0; i < 20; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  // The LINK_RELEASED of the lift was lost on the way: the touch does not begin another.
+  for (int i = 0; i < 50; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  EXPECT_EQ(d.sup.recoveries(), 1);
+}
+
+TEST(SupervisorTest, ALinkRestIsLetBeUnlessAsked) {
+  Driver d("fig8_rotate");
+  d.Grasp();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  d.Event(EventType::kLinkContact, 2);
+  for (int i = 0; i < 50; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  EXPECT_EQ(d.sup.recoveries(), 0);
 }
 
 TEST(SupervisorTest, TowardGoalsNoFingerIsTakenFarFromItsHome) {

@@ -122,6 +122,34 @@ TEST(ManipulationControllerTest, CompositeGripReachesThePlannedForcesAndReportsS
   EXPECT_TRUE(out.grasp_stable);
 }
 
+TEST(ManipulationControllerTest, ALinkContactIsReportedWhenItBeginsAndWhenItEnds) {
+  Fixture fx;
+  ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);
+  SensedInput in = fx.Input(0);
+  const int m = 2;
+  const int flexion = fx.kin.joint_indices(m)[1];
+  // 0.3 N m on M's first flexion joint that no tip force explains (it touches nothing), for
+  // 0.1 s, then none for 0.1 s.
+  std::vector<ControllerEvent> link_events;
+  for (int k = 0; k < 200; ++k) {
+    in.seq = k;
+    in.time_s = k * 1e-3;
+    in.effort.assign(fx.kin.num_joints(), 0.0);
+    if (k < 100) in.effort[flexion] = 0.3;
+    for (const ControllerEvent& e : ctl.Step(in, fx.Grip()).events) {
+      if (e.type == EventType::kLinkContact || e.type == EventType::kLinkReleased) {
+        link_events.push_back(e);
+      }
+    }
+  }
+  ASSERT_EQ(link_events.size(), 2u);
+  EXPECT_EQ(link_events[0].type, EventType::kLinkContact);
+  EXPECT_EQ(link_events[0].finger, m);
+  EXPECT_NEAR(link_events[0].value, 0.3, 1e-9);
+  EXPECT_EQ(link_events[1].type, EventType::kLinkReleased);
+  EXPECT_EQ(link_events[1].finger, m);
+}
+
 TEST(ManipulationControllerTest, HybridExplorationHoldsItsSmallForce) {
   Fixture fx;
   ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);
