@@ -24,8 +24,8 @@ void FingerReplacer::Tick(double recovery_since) {
     const bool touching = board_->view.fingers[f].in_contact;
     switch (stage_[f]) {
       case Stage::kNone:
-        // On a link that long: at once (the recovery may have begun for it, LinkRest).
-        if (OnLink(f) && now - board_->on_link_since[f] > params_.replace_after_s) {
+        // At once (the recovery may have begun for it, LinkRest), while the others all touch.
+        if (RestsOnLink(f) && OthersTouch(f)) {
           Lift(f, ": its links touch");
         } else if (!touching && now - recovery_since > params_.replace_after_s) {
           Lift(f, "");
@@ -45,9 +45,19 @@ void FingerReplacer::Tick(double recovery_since) {
   }
 }
 
-bool FingerReplacer::OnLink(int f) const {
+bool FingerReplacer::OthersTouch(int f) const {
+  for (int k = 0; k < board_->num_fingers(); ++k) {
+    if (k != f && (stage_[k] != Stage::kNone || !board_->view.fingers[k].in_contact)) return false;
+  }
+  return true;
+}
+
+bool FingerReplacer::RestsOnLink(int f) const {
+  const FingerView& v = board_->view.fingers[f];
   return params_.replace_on_link && board_->on_link[f] &&
-         board_->out.task.fingers[f].role == Role::kGrip;
+         board_->out.task.fingers[f].role == Role::kGrip &&
+         board_->now - board_->on_link_since[f] > params_.replace_after_s &&
+         v.force < params_.link_rest_tip_share * v.desired_force;
 }
 
 void FingerReplacer::Lift(int f, const std::string& why) {
@@ -68,17 +78,8 @@ void FingerReplacer::Lift(int f, const std::string& why) {
 
 void FingerReplacer::MoveOverHome(int f) {
   const Eigen::Vector3d home = board_->home[f] - board_->home_centre;
-  const Eigen::Vector3d out = home.normalized();
-  // As far out as its home, or as the felt surface lies there if that is further (a long
-  // object turned across the finger's home direction): not through the object.
-  double reach = home.norm();
-  const Eigen::Matrix3d to_palm = board_->view.object.linear();
-  const SurfacePoint s = board_->surface.Along(to_palm.transpose() * out);
-  if (s.known && board_->tip_radius_m > 0) {
-    reach = std::max(reach, s.distance_m + 2.0 * s.sigma_m + board_->tip_radius_m);
-  }
-  const Eigen::Vector3d target =
-      board_->view.object.translation() + out * (reach + params_.replace_lift_m);
+  const Eigen::Vector3d target = board_->view.object.translation() +
+                                 home.normalized() * (home.norm() + params_.replace_lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
   stage_[f] = Stage::kOver;

@@ -216,14 +216,12 @@ void Supervisor::TickRecovery() {
   }
 }
 
-// A grip finger resting on a link (supervisor.replace_on_link) longer than replace_after_s: its
-// force loop pushes the object through the link, and a step it rides does not finish. The
-// recovery lifts it and places it again on its tip (FingerReplacer).
+// A grip finger resting on a link (FingerReplacer::RestsOnLink): its force loop pushes the object
+// through the link, and a step it rides does not finish. The recovery lifts it and places it
+// again on its tip.
 bool Supervisor::CheckLinkRest() {
-  if (!params_.replace_on_link) return false;
   for (int f = 0; f < board_.num_fingers(); ++f) {
-    if (board_.on_link[f] && board_.out.task.fingers[f].role == Role::kGrip &&
-        board_.now - board_.on_link_since[f] > params_.replace_after_s) {
+    if (replacer_.RestsOnLink(f)) {
       grasp_.Process(GraspEvent::LinkRest,
                      {"finger " + board_.fingers[f] + " rests on a link", f});
       return true;

@@ -36,6 +36,9 @@ std::string OutOfRange(const controller_status_t& m) {
     if (!std::isfinite(f.force_n) || std::abs(f.force_n) > InputBounds::kMaxForceN) {
       return "finger " + f.finger + " force beyond the sensor's range";
     }
+    if (!std::isfinite(f.desired_force_n) || std::abs(f.desired_force_n) > InputBounds::kMaxForceN) {
+      return "finger " + f.finger + " planned force beyond the sensor's range";
+    }
   }
   return "";
 }
@@ -50,7 +53,7 @@ ControllerView ToControllerView(const controller_status_t& m,
     const int f = Index(fingers, fs.finger);
     if (f < 0) continue;
     view.fingers[f] = {fs.in_contact != 0, fs.force_n, ToVector3(fs.tip_position),
-                       ToVector3(fs.contact_position), ToVector3(fs.tip_axis)};
+                       ToVector3(fs.contact_position), ToVector3(fs.tip_axis), fs.desired_force_n};
     const double axis = view.fingers[f].tip_axis.norm();
     view.fingers[f].tip_axis =
         axis > 0.5 ? Eigen::Vector3d(view.fingers[f].tip_axis / axis) : Eigen::Vector3d::UnitZ();

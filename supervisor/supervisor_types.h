@@ -34,6 +34,7 @@ struct FingerView {
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();      // the tip sphere's centre (palm frame)
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();  // the sensed contact point, in contact
   Eigen::Vector3d tip_axis = Eigen::Vector3d::UnitZ();  // the distal link's direction (unit)
+  double desired_force = 0.0;  // what the controller plans for it (N)
   // Whether `contact` is a point sensed now: in contact, a reading of at least 0.05 N, on the
   // tip sphere (2-30 mm from its centre). The controller holds `in_contact` through a short
   // loss (its debounce) while the sensor already reports no point (zeros): such a finger still

@@ -448,15 +448,26 @@ TEST(SupervisorTest, AGripFingerRestingOnALinkIsPlacedAgainOnItsTip) {
   sp.replace_on_link = true;
   Driver d("fig8_rotate", {}, sp);
   PlaceTips(&d, 0.037);
+  for (FingerView& f : d.view.fingers) f.force = f.desired_force = 2.0;
   d.Grasp();
   ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
-  // A touch of M's link that is over within 0.1 s (a slide brushing the object) is let be.
+  // M's tip pushes 0.3 of its 2 N: a touch of its link that is over within 0.1 s (a slide
+  // brushing the object) is let be.
+  d.view.fingers[2].force = 0.3;
   d.Event(EventType::kLinkContact, 2);
   for (int i = 0; i < 10; ++i) d.Tick();
   d.Event(EventType::kLinkReleased, 2);
   for (int i = 0; i < 30; ++i) d.Tick();
   ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
-  // M rests on a link with its tip still touching: after 0.2 s a recovery begins for it.
+  // So is a link that touches while the tip still pushes what it should.
+  d.view.fingers[2].force = 1.9;
+  d.Event(EventType::kLinkContact, 2);
+  for (int i = 0; i < 30; ++i) d.Tick();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  d.Event(EventType::kLinkReleased, 2);
+  d.Tick();
+  // M rests on a link, its tip pushing 0.3 N: after 0.2 s a recovery begins for it.
+  d.view.fingers[2].force = 0.3;
   d.Event(EventType::kLinkContact, 2);
   for (int i = 0; i < 19; ++i) d.Tick();
   ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
@@ -477,9 +488,12 @@ TEST(SupervisorTest, AGripFingerRestingOnALinkIsPlacedAgainOnItsTip) {
   d.Event(EventType::kTargetReached, 2);
   EXPECT_EQ(d.Tick().task.fingers[2].primitive, Primitive::kComposite);
   d.view.fingers[2].in_contact = true;
+  d.view.fingers[2].force = 2.0;
   for (int i = 0; i < 20; ++i) d.Tick();
   EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
-  // The LINK_RELEASED of the lift was lost on the way: the touch does not begin another.
+  // The LINK_RELEASED of the lift was lost on the way: the touch does not begin another, though
+  // the tip pushes little again.
+  d.view.fingers[2].force = 0.3;
   for (int i = 0; i < 50; ++i) d.Tick();
   EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
   EXPECT_EQ(d.sup.recoveries(), 1);
