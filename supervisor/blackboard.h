@@ -38,7 +38,7 @@ struct Blackboard {
   std::vector<bool> reached;       // each finger reached its target since it was set
   std::vector<bool> link_touched;  // each finger touched with a link since it last explored
   std::vector<bool> on_link;       // each finger's links touch now (LINK_CONTACT, not yet released)
-  std::vector<double> on_link_since;  // and since when (`now`)
+  std::vector<double> on_link_since;  // and since when (`now`), or since it grips again
   bool motion_done_event = false;  // the controller said the object motion is done
   // Where each fingertip and the object's centre were when the first task began.
   std::vector<Eigen::Vector3d> home;

@@ -56,7 +56,7 @@ bool FingerReplacer::RestsOnLink(int f) const {
   const FingerView& v = board_->view.fingers[f];
   return params_.replace_on_link && board_->on_link[f] &&
          board_->out.task.fingers[f].role == Role::kGrip &&
-         board_->now - board_->on_link_since[f] > params_.replace_after_s &&
+         board_->now - board_->on_link_since[f] > params_.link_rest_s &&
          v.force < params_.link_rest_tip_share * v.desired_force;
 }
 

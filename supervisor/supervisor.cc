@@ -221,6 +221,8 @@ void Supervisor::TickRecovery() {
 // again on its tip.
 bool Supervisor::CheckLinkRest() {
   for (int f = 0; f < board_.num_fingers(); ++f) {
+    // A rest counts from when the finger grips: an explorer's link brushing the object is not one.
+    if (board_.out.task.fingers[f].role != Role::kGrip) board_.on_link_since[f] = board_.now;
     if (replacer_.RestsOnLink(f)) {
       grasp_.Process(GraspEvent::LinkRest,
                      {"finger " + board_.fingers[f] + " rests on a link", f});

@@ -210,10 +210,11 @@ struct SupervisorParams {
   double replace_after_s = 0.2;
   double replace_lift_m = 0.01;
   // A grip finger whose links touch (the controller's LINK_CONTACT, not yet released) for
-  // replace_after_s while its tip pushes less than link_rest_tip_share of the force planned for
-  // it is placed again the same way, in a recovery begun for it if the tasks are under way
+  // link_rest_s while its tip pushes less than link_rest_tip_share of the force planned for it
+  // is placed again the same way, in a recovery begun for it if the tasks are under way
   // (LinkRest), one finger at a time: its force loop would push the object through the link.
   bool replace_on_link = false;
+  double link_rest_s = 0.5;
   double link_rest_tip_share = 0.5;
   double stop_after_s = 0.5;            // after the last task (or a failure): stop the simulator
   // Real time: a step of the sensed clock between two reports longer than this is a gap (the
@@ -230,6 +231,7 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(replace_after_s));
     a->Visit(DMPL_NVP(replace_lift_m), AtLeast(0));
     a->Visit(DMPL_NVP(replace_on_link));
+    a->Visit(DMPL_NVP(link_rest_s), AtLeast(0));
     a->Visit(DMPL_NVP(link_rest_tip_share), InRange(0, 1));
     a->Visit(DMPL_NVP(stop_after_s), AtLeast(0));
     a->Visit(DMPL_NVP(sensing_gap_s), Above(0));
