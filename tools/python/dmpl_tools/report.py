@@ -236,7 +236,8 @@ def plot_forces(data, path):
 
 def _plot_link_contacts(ax, data, f, name, labelled):
     """Finger f's links (not its tip) on the object: the simulator's force (truth) and where the
-    controller inferred a link contact from the joints' efforts (LINK_CONTACT)."""
+    controller inferred a link contact from the joints' efforts (LINK_CONTACT), with how long it
+    lasted (until LINK_RELEASED; logs older than that event show the onsets alone)."""
     tact = data.tactile
     link = tact["link_force"][:, f]
     if np.isfinite(link).any() and (link > 0).any():
@@ -248,6 +249,33 @@ def _plot_link_contacts(ax, data, f, name, labelled):
         ax.plot(found, np.full(len(found), 0.95), "v", color="#000000", ms=3,
                 transform=ax.get_xaxis_transform(),
                 label=_once("link contact inferred", labelled))
+    spans = link_contact_spans(data.controller["events"], name, tact.t[-1] if len(tact.t) else 0.0)
+    if spans:
+        starts, ends = zip(*spans)
+        ax.hlines(np.full(len(spans), 0.95), starts, ends, color="#000000", lw=1.5,
+                  transform=ax.get_xaxis_transform(),
+                  label=_once("link contact inferred, while it lasts", labelled))
+
+
+def link_contact_spans(events, name, end_s):
+    """Finger `name`'s inferred link contacts as (from, to) times: each LINK_CONTACT to the next
+    LINK_RELEASED, the last one to `end_s`. None when the log has no LINK_RELEASED for it."""
+    spans, since, released = [], None, False
+    for t, kind, finger, *_ in sorted(events, key=lambda e: e[0]):
+        if finger != name:
+            continue
+        if kind == controller_event_t.LINK_CONTACT and since is None:
+            since = t
+        elif kind == controller_event_t.LINK_RELEASED:
+            released = True
+            if since is not None:
+                spans.append((since, t))
+                since = None
+    if not released:
+        return []
+    if since is not None:
+        spans.append((since, end_s))
+    return spans
 
 
 def _once(label, labelled):
