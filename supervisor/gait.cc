@@ -41,6 +41,9 @@ void Gait::Start() {
   if (params_.has_goals()) StartGoals();
   done_ = false;
   explorer_ = -1;
+  struck_.assign(board_->num_fingers(), false);
+  lifted_ = placed_back_ = sit_out_pending_ = -1;
+  deferred_turn_ = nullptr;
   phase_since_ = board_->now;
   regrasp_.Process(RegraspEvent::Begin);
 }
@@ -53,6 +56,8 @@ void Gait::Resume() {
 void Gait::Abort() {
   regrasp_.Process(RegraspEvent::Abort);
   explorer_ = -1;
+  lifted_ = placed_back_ = sit_out_pending_ = -1;  // the recovery grips with all
+  deferred_turn_ = nullptr;
 }
 
 void Gait::StartGoals() {
@@ -78,6 +83,10 @@ void Gait::Explore(const std::string& finger) {
   const int f = board_->Finger(finger);
   pending_choice_.pending = false;
   explorer_ = f;
+  // A finger that sits the turns out comes back to hold while the next one explores: the
+  // step after its grip holds the object still.
+  if (f == lifted_) lifted_ = -1;
+  if (params_.struck_fingers.enabled && struck_[f]) placed_back_ = f;
   phase_since_ = board_->now;
   board_->reached[f] = false;
   // Toward a goal orientation the steps turn about the axis to it (positive angles).
@@ -188,7 +197,9 @@ void Gait::Rotate(const std::vector<std::string>& /*grippers*/) {
     const double remaining = goal_->remaining();
     step_ = std::copysign(std::min(StepSize(), std::abs(remaining)), remaining);
     step_ = StepClearOfLinks(params_.axis.direction, step_);
-    goal_->Turn(params_.axis.direction, step_, StepSpeed());
+    HoldStillForPlacedBack();
+    const Eigen::Vector3d axis = params_.axis.direction;
+    TurnOrSitOut([this, axis, step = step_] { goal_->Turn(axis, step, StepSpeed()); });
     return;
   }
   // One step from where the object is toward the current goal, the shortest way.
@@ -202,9 +213,77 @@ void Gait::Rotate(const std::vector<std::string>& /*grippers*/) {
   }
   step_ = StepClearOfLinks(to_goal.axis, step_);
   PreferFingerAtRisk(regrasp_.exploring() ? explorer_ : -1);
-  goal_->Aim((Eigen::AngleAxisd(step_, to_goal.axis) * board_->SensedOrientation())
-                 .toRotationMatrix(),
-             step_, StepSpeed());
+  HoldStillForPlacedBack();
+  const Eigen::Matrix3d pose =
+      (Eigen::AngleAxisd(step_, to_goal.axis) * board_->SensedOrientation()).toRotationMatrix();
+  TurnOrSitOut([this, pose, step = step_] { goal_->Aim(pose, step, StepSpeed()); });
+}
+
+void Gait::TurnOrSitOut(std::function<void()> turn) {
+  const int struck = StruckFingerToLift(regrasp_.exploring() ? explorer_ : -1);
+  if (struck >= 0 && regrasp_.gripping_while_turning()) {
+    // The finger that grips now must hold before another lets go: the turn waits for its grip.
+    sit_out_pending_ = struck;
+    deferred_turn_ = std::move(turn);
+    return;
+  }
+  if (struck >= 0) LiftOff(struck);
+  turn();
+}
+
+void Gait::HoldStillForPlacedBack() {
+  if (placed_back_ < 0) return;
+  placed_back_ = -1;
+  step_ = 0.0;
+}
+
+bool Gait::StartDeferredTurn(double in_phase) {
+  if (sit_out_pending_ < 0) return false;
+  const bool gripped =
+      (board_->view.grasp_stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s;
+  if (!gripped) return true;
+  LiftOff(sit_out_pending_);
+  sit_out_pending_ = -1;
+  deferred_turn_();
+  deferred_turn_ = nullptr;
+  phase_since_ = board_->now;
+  return true;
+}
+
+void Gait::NoteStruckFingers() {
+  if (!params_.struck_fingers.enabled || step_ == 0.0) return;
+  for (int f = 0; f < board_->num_fingers(); ++f) {
+    if (struck_[f] || !board_->on_link[f] || board_->out.task.fingers[f].role != Role::kGrip) {
+      continue;
+    }
+    struck_[f] = true;
+    board_->Note(board_->fingers[f] + "'s links met the object in a turn: it sits the turns out");
+  }
+}
+
+int Gait::StruckFingerToLift(int skip) const {
+  const StruckFingerParams& p = params_.struck_fingers;
+  if (!p.enabled || lifted_ >= 0 || step_ == 0.0) return -1;
+  const ControllerView& view = board_->view;
+  for (int f = 0; f < board_->num_fingers(); ++f) {
+    if (!struck_[f] || f == skip || !view.fingers[f].in_contact) continue;
+    if (view.gravity.isZero() || SupportWithout(view, f, params_.support.Limits()) >= p.need_n) {
+      return f;
+    }
+  }
+  return -1;
+}
+
+void Gait::LiftOff(int f) {
+  const ControllerView& view = board_->view;
+  const Eigen::Vector3d& tip = view.fingers[f].tip;
+  const Eigen::Vector3d off =
+      tip + params_.struck_fingers.lift_m * (tip - view.object.translation()).normalized();
+  board_->SetFinger(f, Role::kFree, Primitive::kPosition, &off);
+  board_->out.changed = true;
+  lifted_ = f;
+  board_->Note(board_->fingers[f] + " sits this turn out; the others hold " +
+               Fixed(SupportWithout(view, f, params_.support.Limits())) + " N against gravity");
 }
 
 void Gait::Grip(const std::string& finger) {
@@ -337,6 +416,8 @@ bool Gait::TickGoals() {
                    Fixed(goals_.times_s().back()) + " s");
       report_(GaitReport::kGoalReached, "");
       if (goals_.complete()) done_ = true;
+      // The next goal turns about another axis: which links meet the object is learned anew.
+      std::fill(struck_.begin(), struck_.end(), false);
       return true;
     case GoalSequence::Event::kTimedOut:
       report_(GaitReport::kFailed,
@@ -383,6 +464,8 @@ void Gait::TickExplore(double in_phase) {
 
 void Gait::TickRotate(double in_phase) {
   const ControllerView& view = board_->view;
+  if (StartDeferredTurn(in_phase)) return;
+  NoteStruckFingers();
   // A turn that began with a grip waits for the grasp to be stable too (as a grip would).
   const bool gripped = !regrasp_.gripping_while_turning() ||
                        (view.grasp_stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s;
@@ -393,6 +476,8 @@ void Gait::TickRotate(double in_phase) {
     if (!view.grasp_stable && regrasp_.gripping_while_turning()) {
       board_->Note("no stable grasp within the grip timeout; going on");
     }
+    // A finger that sat the turn out is placed again before anyone else explores.
+    if (lifted_ >= 0) regrasp_.set_next_explorer(board_->fingers[lifted_]);
     regrasp_.Process(RegraspEvent::RotateDone);
   } else if (in_phase > spec_.rotate_timeout_s) {
     report_(GaitReport::kSlipped, "a rotation step did not finish within " +

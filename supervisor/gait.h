@@ -88,6 +88,20 @@ class Gait : private RegraspActions {
   // next (`rides` steps about `axis`, by `sign`); `why` says why, when it is another point.
   Eigen::Vector3d ChooseContact(int f, const Eigen::Vector3d& point, const Eigen::Vector3d& axis,
                                 double sign, double rides, std::string* why);
+  // task.struck_fingers: while a step turns, the grip fingers whose links touch are marked; at a
+  // turn's start one of them is lifted off if the others hold enough without it (true).
+  void NoteStruckFingers();
+  // The finger just placed again grips with the object held still: this step is 0.
+  void HoldStillForPlacedBack();
+  // A struck finger (not `skip`) the others can do without (-1: none); lift it off.
+  int StruckFingerToLift(int skip) const;
+  void LiftOff(int f);
+  // Starts the step's `turn`, lifting a struck finger first (once the finger gripping now
+  // holds, if it grips while turning).
+  void TurnOrSitOut(std::function<void()> turn);
+  // A turn waiting for a grip before a struck finger lifts: starts it when due (true: waiting
+  // or just started).
+  bool StartDeferredTurn(double in_phase);
   bool LimitDeviation() const {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }
@@ -125,6 +139,13 @@ class Gait : private RegraspActions {
     int skip = -1;
   };
   PendingChoice pending_choice_;
+  // task.struck_fingers: the fingers that sit the turns out, the one lifted for the turn under
+  // way (-1: none), and the one just placed again, whose grip the object waits for still.
+  std::vector<bool> struck_;
+  int lifted_ = -1;
+  int placed_back_ = -1;
+  int sit_out_pending_ = -1;
+  std::function<void()> deferred_turn_;
   // Per finger: whether it stopped a step with its links (StepClearOfLinks), and was placed
   // again since.
   enum class LinkBlock { kNone, kBlocked, kPlaced };

@@ -104,6 +104,26 @@ struct ContactChoiceParams {
   }
 };
 
+// task.struck_fingers: a grip finger whose links met the object while it rode a turn (the
+// controller's LINK_CONTACT during a rotation step) holds the object but sits the turns out: it
+// is lifted `lift_m` off while the others turn, as long as they hold at least `need_n` against
+// gravity without it, and placed again (it explores next) before anyone else explores, the
+// object held still while it grips (a step of 0). A long object turned end over end brings its
+// near half onto the links of the finger in the plane of the turn at every step; that finger
+// is needed while the finger across from it explores, not while the object turns.
+struct StruckFingerParams {
+  bool enabled = false;
+  double need_n = 1.0;
+  double lift_m = 0.015;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(enabled));
+    a->Visit(DMPL_NVP(need_n), AtLeast(0));
+    a->Visit(DMPL_NVP(lift_m), InRange(0, 0.05));
+  }
+};
+
 // Section `task`: what to do. The structure is in the task file; these are its numbers, so that
 // `--set task.axis=y` or `--set task.angle=3.14` change an experiment without editing files.
 struct TaskParams {
@@ -160,6 +180,7 @@ struct TaskParams {
   ExplorerSupportParams explorer_support;
   SupportParams support;
   ContactChoiceParams contact_choice;
+  StruckFingerParams struck_fingers;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -187,6 +208,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(explorer_support));
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
+    a->Visit(DMPL_NVP(struck_fingers));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations

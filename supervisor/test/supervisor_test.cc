@@ -280,6 +280,60 @@ void PlaceTips(Driver* d, double radius) {
   d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
 }
 
+TEST(SupervisorTest, AFingerWhoseLinksMetTheObjectInATurnSitsTheTurnsOut) {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.grip_while_turning = true;
+  tp.angle = 1.0;
+  tp.struck_fingers.enabled = true;
+  Driver d("fig10_gait", tp);
+  PlaceTips(&d, 0.037);
+  d.Grasp();
+  auto last = [&] { return d.sup.regrasp().last_action(); };
+  d.Tick();
+  ASSERT_EQ(last(), "A4 R explore");
+  d.Event(EventType::kTargetReached, 3);
+  d.Tick();
+  ASSERT_EQ(last(), "A3 R grip + A1 TFMR rotate");
+  // M's links touch while all four turn: it is marked.
+  d.Event(EventType::kLinkContact, 2);
+  d.Tick();
+  EXPECT_NE(d.sup.note().find("M's links met the object in a turn"), std::string::npos);
+  for (int i = 0; i < 10 && last() != "A7 M explore"; ++i) {
+    d.Event(EventType::kMotionDone);
+    d.Tick();
+  }
+  ASSERT_EQ(last(), "A7 M explore");
+  // M explores; when it grips, the object is held still (a step of 0) while it takes hold.
+  const double before = d.sup.rotation_commanded();
+  d.Event(EventType::kTargetReached, 2);
+  d.Tick();
+  ASSERT_EQ(last(), "A6 M grip + A1 TFMR rotate");
+  EXPECT_NEAR(d.sup.rotation_commanded(), before, 1e-9);
+  for (int i = 0; i < 10 && last() != "A10 F explore"; ++i) {
+    d.Event(EventType::kMotionDone);
+    d.Tick();
+  }
+  ASSERT_EQ(last(), "A10 F explore");
+  EXPECT_EQ(d.sup.roles()[2], Role::kGrip);  // M holds while F explores
+  // F grips and all turn: the turn waits for F's grip, then M lifts off and the others turn.
+  d.Event(EventType::kTargetReached, 1);
+  d.Tick();
+  ASSERT_EQ(last(), "A9 F grip + A1 TFMR rotate");
+  EXPECT_EQ(d.sup.roles()[2], Role::kGrip);
+  EXPECT_NEAR(d.sup.rotation_commanded(), before, 1e-9);
+  for (int i = 0; i < 10 && d.sup.roles()[2] == Role::kGrip; ++i) d.Tick();
+  EXPECT_EQ(d.sup.roles()[2], Role::kFree);
+  EXPECT_NE(d.sup.note().find("M sits this turn out"), std::string::npos) << d.sup.note();
+  EXPECT_GT(d.sup.rotation_commanded(), before + 0.1);
+  // The turn done, M is placed again before the order's next (T) explores.
+  for (int i = 0; i < 10 && last() == "A9 F grip + A1 TFMR rotate"; ++i) {
+    d.Event(EventType::kMotionDone);
+    d.Tick();
+  }
+  EXPECT_EQ(last(), "A7 M explore");
+}
+
 TEST(SupervisorTest, AFingerLeavingToExploreSaysWhatTheOthersHoldAgainstGravity) {
   // Gravity toward M (+z): M carries the sphere; F and R hold it by friction alone (0.1 here,
   // 2.5 N a push: 2 * 0.1 * 2.5 = 0.5 N at most) and T pushes the wrong way. Without R the
