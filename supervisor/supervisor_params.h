@@ -110,7 +110,10 @@ struct ContactChoiceParams {
 // gravity without it, and placed again (it explores next) before anyone else explores, the
 // object held still while it grips (a step of 0). A long object turned end over end brings its
 // near half onto the links of the finger in the plane of the turn at every step; that finger
-// is needed while the finger across from it explores, not while the object turns.
+// is needed while the finger across from it explores, not while the object turns. Off: it
+// reaches that cylinder's first goal three times faster and lifts the ellipsoid's random goals,
+// but loses goals on slick and heavy spheres, and `need_n` does not ask whether the others can
+// turn the object, only hold it (docs/benchmarks.md, stop 47).
 struct StruckFingerParams {
   bool enabled = false;
   double need_n = 1.0;
