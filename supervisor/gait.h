@@ -88,8 +88,8 @@ class Gait : private RegraspActions {
   // next (`rides` steps about `axis`, by `sign`); `why` says why, when it is another point.
   Eigen::Vector3d ChooseContact(int f, const Eigen::Vector3d& point, const Eigen::Vector3d& axis,
                                 double sign, double rides, std::string* why);
-  // task.struck_fingers: while a step turns, the grip fingers whose links touch are marked; at a
-  // turn's start one of them is lifted off if the others hold enough without it (true).
+  // task.struck_fingers: while a step turns, the grip fingers whose links touch are marked (at a
+  // later turn's start one of them is lifted off if the others hold enough without it).
   void NoteStruckFingers();
   // The finger just placed again grips with the object held still: this step is 0.
   void HoldStillForPlacedBack();
