@@ -36,7 +36,8 @@ std::string OutOfRange(const controller_status_t& m) {
     if (!std::isfinite(f.force_n) || std::abs(f.force_n) > InputBounds::kMaxForceN) {
       return "finger " + f.finger + " force beyond the sensor's range";
     }
-    if (!std::isfinite(f.desired_force_n) || std::abs(f.desired_force_n) > InputBounds::kMaxForceN) {
+    if (!std::isfinite(f.desired_force_n) ||
+        std::abs(f.desired_force_n) > InputBounds::kMaxForceN) {
       return "finger " + f.finger + " planned force beyond the sensor's range";
     }
   }
