@@ -42,7 +42,7 @@ void Gait::Start() {
   done_ = false;
   explorer_ = -1;
   struck_.assign(board_->num_fingers(), false);
-  lifted_ = placed_back_ = sit_out_pending_ = -1;
+  lifted_ = placed_back_ = -1;
   deferred_turn_ = nullptr;
   phase_since_ = board_->now;
   regrasp_.Process(RegraspEvent::Begin);
@@ -56,7 +56,7 @@ void Gait::Resume() {
 void Gait::Abort() {
   regrasp_.Process(RegraspEvent::Abort);
   explorer_ = -1;
-  lifted_ = placed_back_ = sit_out_pending_ = -1;  // the recovery grips with all
+  lifted_ = placed_back_ = -1;  // the recovery grips with all
   deferred_turn_ = nullptr;
 }
 
@@ -223,8 +223,10 @@ void Gait::TurnOrSitOut(std::function<void()> turn) {
   const int struck = StruckFingerToLift(regrasp_.exploring() ? explorer_ : -1);
   if (struck >= 0 && regrasp_.gripping_while_turning()) {
     // The finger that grips now must hold before another lets go: the turn waits for its grip.
-    sit_out_pending_ = struck;
-    deferred_turn_ = std::move(turn);
+    deferred_turn_ = [this, struck, turn = std::move(turn)] {
+      LiftOff(struck);
+      turn();
+    };
     return;
   }
   if (struck >= 0) LiftOff(struck);
@@ -238,16 +240,17 @@ void Gait::HoldStillForPlacedBack() {
 }
 
 bool Gait::StartDeferredTurn(double in_phase) {
-  if (sit_out_pending_ < 0) return false;
-  const bool gripped =
-      (board_->view.grasp_stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s;
-  if (!gripped) return true;
-  LiftOff(sit_out_pending_);
-  sit_out_pending_ = -1;
-  deferred_turn_();
+  if (!deferred_turn_) return false;
+  if (!GripDue(in_phase)) return true;
+  const std::function<void()> turn = std::move(deferred_turn_);
   deferred_turn_ = nullptr;
+  turn();
   phase_since_ = board_->now;
   return true;
+}
+
+bool Gait::GripDue(double in_phase) const {
+  return (board_->view.grasp_stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s;
 }
 
 void Gait::NoteStruckFingers() {
@@ -467,8 +470,7 @@ void Gait::TickRotate(double in_phase) {
   if (StartDeferredTurn(in_phase)) return;
   NoteStruckFingers();
   // A turn that began with a grip waits for the grasp to be stable too (as a grip would).
-  const bool gripped = !regrasp_.gripping_while_turning() ||
-                       (view.grasp_stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s;
+  const bool gripped = !regrasp_.gripping_while_turning() || GripDue(in_phase);
   if (StepDone(in_phase) && gripped) {
     if (!board_->MotionDone()) {
       board_->Note("step settled " + std::to_string(view.tracking_error_rad) + " rad short");
@@ -487,9 +489,8 @@ void Gait::TickRotate(double in_phase) {
 
 void Gait::TickGrip(double in_phase) {
   // Wait for a stable grasp (at least a moment after the role change).
-  const bool stable = board_->view.grasp_stable;
-  if ((stable && in_phase > 0.05) || in_phase > spec_.grip_timeout_s) {
-    if (!stable) board_->Note("no stable grasp within the grip timeout; going on");
+  if (GripDue(in_phase)) {
+    if (!board_->view.grasp_stable) board_->Note("no stable grasp within the grip timeout; going on");
     regrasp_.Process(RegraspEvent::GripStable);
   }
 }

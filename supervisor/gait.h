@@ -102,6 +102,9 @@ class Gait : private RegraspActions {
   // A turn waiting for a grip before a struck finger lifts: starts it when due (true: waiting
   // or just started).
   bool StartDeferredTurn(double in_phase);
+  // The finger that grips now holds (a stable grasp a moment after the role change), or has had
+  // the grip's time.
+  bool GripDue(double in_phase) const;
   bool LimitDeviation() const {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }
@@ -144,7 +147,7 @@ class Gait : private RegraspActions {
   std::vector<bool> struck_;
   int lifted_ = -1;
   int placed_back_ = -1;
-  int sit_out_pending_ = -1;
+  // A turn that waits for a grip before a struck finger lifts off (null: none).
   std::function<void()> deferred_turn_;
   // Per finger: whether it stopped a step with its links (StepClearOfLinks), and was placed
   // again since.

@@ -238,8 +238,9 @@ struct SupervisorParams {
   // link_rest_s while its tip pushes less than link_rest_tip_share of the force planned for it
   // is placed again the same way, in a recovery begun for it if the tasks are under way
   // (LinkRest), one finger at a time: its force loop would push the object through the link.
-  // Off: across the random-goal and unknown-object benchmarks it changes no result (stop 47,
-  // docs/benchmarks.md), and the end-over-end turns it was read on need more than it.
+  // Off: across the random-goal and unknown-object benchmarks it changes no result in Bullet and
+  // loses runs in MuJoCo (stop 47, docs/benchmarks.md); the end-over-end turns it was read on
+  // need more than it.
   bool replace_on_link = false;
   double link_rest_s = 0.5;
   double link_rest_tip_share = 0.5;
