@@ -8,9 +8,16 @@ FingerReplacer::FingerReplacer(Blackboard* board, const SupervisorParams& params
     : board_(board),
       params_(params),
       stage_(board->fingers.size(), Stage::kNone),
-      since_(board->fingers.size(), 0.0) {}
+      since_(board->fingers.size(), 0.0),
+      shift_(board->fingers.size(), 0.0),
+      base_side_(board->fingers.size(), Eigen::Vector3d::Zero()),
+      stall_at_(board->fingers.size(), Eigen::Vector3d::Zero()),
+      stalled_since_(board->fingers.size(), 0.0) {}
 
-void FingerReplacer::Reset() { std::fill(stage_.begin(), stage_.end(), Stage::kNone); }
+void FingerReplacer::Reset() {
+  std::fill(stage_.begin(), stage_.end(), Stage::kNone);
+  std::fill(shift_.begin(), shift_.end(), 0.0);
+}
 
 bool FingerReplacer::placing() const {
   return std::any_of(stage_.begin(), stage_.end(), [](Stage s) { return s != Stage::kNone; });
@@ -38,8 +45,18 @@ void FingerReplacer::Tick(double recovery_since) {
         if (board_->reached[f] || since > 1.5) BringIn(f);
         break;
       case Stage::kIn:
-        // Touching: done; still nothing after a while: lift and try again.
-        if (touching || since > 1.0) stage_[f] = Stage::kNone;
+        // Touching: done; stopped short of the surface (its links on the object, or another
+        // finger in the way): lift and try a point nearer its base; still nothing after a
+        // while: lift and try again.
+        if (touching) {
+          stage_[f] = Stage::kNone;
+        } else if (Stalled(f)) {
+          base_side_[f] = -board_->view.fingers[f].tip_axis;
+          shift_[f] = std::min(shift_[f] + params_.replace_shift_rad, params_.replace_max_shift_rad);
+          Lift(f, ": it stopped short of the surface");
+        } else if (since > 1.0) {
+          stage_[f] = Stage::kNone;
+        }
         break;
     }
   }
@@ -50,6 +67,17 @@ bool FingerReplacer::OthersTouch(int f) const {
     if (k != f && (stage_[k] != Stage::kNone || !board_->view.fingers[k].in_contact)) return false;
   }
   return true;
+}
+
+bool FingerReplacer::Stalled(int f) {
+  const FingerView& v = board_->view.fingers[f];
+  if (params_.replace_shift_rad <= 0 || v.in_contact) return false;
+  // Moving in: not stalled yet (the clock starts again wherever it has got to).
+  if ((v.tip - stall_at_[f]).norm() > params_.replace_stall_m) {
+    stall_at_[f] = v.tip;
+    stalled_since_[f] = board_->now;
+  }
+  return board_->now - stalled_since_[f] >= params_.replace_stall_s;
 }
 
 bool FingerReplacer::RestsOnLink(int f) const {
@@ -77,9 +105,15 @@ void FingerReplacer::Lift(int f, const std::string& why) {
 }
 
 void FingerReplacer::MoveOverHome(int f) {
-  const Eigen::Vector3d home = board_->home[f] - board_->home_centre;
-  const Eigen::Vector3d target = board_->view.object.translation() +
-                                 home.normalized() * (home.norm() + params_.replace_lift_m);
+  const Eigen::Vector3d direction = PlacementDirection(f);
+  // As far out as its home, or as the felt surface there (a point inside it would be pushed
+  // into the object by a position move).
+  double out = (board_->home[f] - board_->home_centre).norm();
+  const Eigen::Matrix3d to_palm = board_->view.object.linear();
+  const SurfacePoint felt = board_->surface.Along(to_palm.transpose() * direction);
+  if (felt.known) out = std::max(out, felt.distance_m + board_->tip_radius_m);
+  const Eigen::Vector3d target =
+      board_->view.object.translation() + direction * (out + params_.replace_lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
   stage_[f] = Stage::kOver;
@@ -87,8 +121,18 @@ void FingerReplacer::MoveOverHome(int f) {
   board_->out.changed = true;
 }
 
+Eigen::Vector3d FingerReplacer::PlacementDirection(int f) const {
+  const Eigen::Vector3d d = (board_->home[f] - board_->home_centre).normalized();
+  // Toward the base: against the tip's axis as it stalled, across the direction.
+  const Eigen::Vector3d back = base_side_[f] - base_side_[f].dot(d) * d;
+  if (shift_[f] <= 0 || back.norm() < 1e-6) return d;
+  return Eigen::AngleAxisd(shift_[f], d.cross(back).normalized()) * d;
+}
+
 void FingerReplacer::BringIn(int f) {
   board_->SetFinger(f, Role::kGrip, Primitive::kComposite);
+  stall_at_[f] = board_->view.fingers[f].tip;
+  stalled_since_[f] = board_->now;
   stage_[f] = Stage::kIn;
   since_[f] = board_->now;
   board_->out.changed = true;

@@ -1,7 +1,10 @@
 #pragma once
 // In a recovery, a grip finger that does not touch again is placed again
 // (supervisor.replace_after_s): lifted off along the line from the object's centre, moved over
-// its home as far out, and brought in by a grip. A finger that lost its contact far from home
+// its home as far out (never inside the felt surface), and brought in by a grip. Brought in to
+// the same point, a finger whose links met the object short of its tip meets it the same way
+// again: a finger that stops short of the surface is lifted at once and its next point turned
+// toward its base (supervisor.replace_shift_rad). A finger that lost its contact far from home
 // often rests on the object with a link (no tactile sensor there) and would press on it forever
 // with its tip just short of the surface; so would one that touches with a link while its tip
 // touches too (supervisor.replace_on_link).
@@ -29,14 +32,22 @@ class FingerReplacer {
  private:
   enum class Stage { kNone, kLift, kOver, kIn };
   bool OthersTouch(int f) const;  // every finger but f touches and none is being placed
+  // Brought in, its tip has stopped short of the surface: the point is to move.
+  bool Stalled(int f);
   void Lift(int f, const std::string& why);
   void MoveOverHome(int f);
+  // Its home's direction from the object's centre, turned toward its base by shift_[f].
+  Eigen::Vector3d PlacementDirection(int f) const;
   void BringIn(int f);
 
   Blackboard* board_;
   const SupervisorParams& params_;
   std::vector<Stage> stage_;
   std::vector<double> since_;
+  std::vector<double> shift_;                 // rad, toward the base (this recovery)
+  std::vector<Eigen::Vector3d> base_side_;    // unit: against the tip's axis when it stalled
+  std::vector<Eigen::Vector3d> stall_at_;     // where its tip was when it last moved on
+  std::vector<double> stalled_since_;
 };
 
 }  // namespace dmpl

@@ -234,6 +234,16 @@ struct SupervisorParams {
   // on it forever with its tip just short of the surface.
   double replace_after_s = 0.2;
   double replace_lift_m = 0.01;
+  // A finger brought in whose tip stops short of the surface (it moves less than replace_stall_m
+  // in replace_stall_s without a contact: its links on the object, or another finger in the
+  // way) is lifted at once, and its next point is turned about the object's centre toward its
+  // base (against its tip's axis) by replace_shift_rad more than the last, up to
+  // replace_max_shift_rad, where it comes at the surface more head-on (0: the same point again,
+  // after a second).
+  double replace_stall_s = 0.3;
+  double replace_stall_m = 0.002;
+  double replace_shift_rad = 0.3;
+  double replace_max_shift_rad = 0.6;
   // A grip finger whose links touch (the controller's LINK_CONTACT, not yet released) for
   // link_rest_s while its tip pushes less than link_rest_tip_share of the force planned for it
   // is placed again the same way, in a recovery begun for it if the tasks are under way
@@ -258,6 +268,10 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(recovery_timeout_s), Above(0));
     a->Visit(DMPL_NVP(replace_after_s));
     a->Visit(DMPL_NVP(replace_lift_m), AtLeast(0));
+    a->Visit(DMPL_NVP(replace_stall_s), Above(0));
+    a->Visit(DMPL_NVP(replace_stall_m), Above(0));
+    a->Visit(DMPL_NVP(replace_shift_rad), InRange(0, 1.5));
+    a->Visit(DMPL_NVP(replace_max_shift_rad), InRange(0, 1.5));
     a->Visit(DMPL_NVP(replace_on_link));
     a->Visit(DMPL_NVP(link_rest_s), AtLeast(0));
     a->Visit(DMPL_NVP(link_rest_tip_share), InRange(0, 1));

@@ -34,7 +34,9 @@ ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
 // The point nearest to every grip contact's normal line (contact point + t * normal): the centre
 // of a sphere, a point on a cylinder's axis. Forces aimed there push along the normals. Lines
 // that do not pin a point (parallel normals: two opposed fingers) leave the free directions at
-// `fallback`. Nothing when fewer than two grip contacts have a normal.
+// `fallback`. Lines that meet farther from `fallback` than the farthest grip contact (nearly
+// opposed normals that miss each other) pin no point: `fallback`. Nothing when fewer than two
+// grip contacts have a normal.
 std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vector3d>& contacts,
                                                    const std::vector<Eigen::Vector3d>& normals,
                                                    const std::vector<bool>& grip,

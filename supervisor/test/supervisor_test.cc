@@ -280,6 +280,58 @@ void PlaceTips(Driver* d, double radius) {
   d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
 }
 
+// Brought in, R's tip stops short of the object (its link on it, or another finger in the way):
+// the same point would stop it the same way, so it is lifted at once and placed nearer its base.
+TEST(SupervisorTest, AFingerThatStopsShortOfTheSurfaceIsPlacedAgainNearerItsBase) {
+  for (const double shift : {0.3, 0.0}) {
+    SupervisorParams sp;
+    sp.replace_shift_rad = shift;
+    Driver d("fig8_rotate", {}, sp);
+    PlaceTips(&d, 0.037);
+    const Eigen::Vector3d c = d.view.object.translation();
+    d.Grasp();
+    ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+    FingerView& r = d.view.fingers[3];
+    r.tip_axis = Eigen::Vector3d::UnitX();  // its base lies toward the palm (-x)
+    r.in_contact = false;
+    d.Event(EventType::kContactLost, 3);
+    for (int i = 0; i < 26; ++i) d.Tick();
+    ASSERT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kPosition) << "lifted";
+    d.Event(EventType::kTargetReached, 3);
+    d.Tick();
+    d.Event(EventType::kTargetReached, 3);
+    ASSERT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kComposite) << "brought in";
+    // Its tip moves 1 mm in 0.29 s and touches nothing.
+    for (int i = 0; i < 29; ++i) {
+      r.tip += Eigen::Vector3d(0, 0.001 / 29, 0);
+      d.Tick();
+    }
+    ASSERT_EQ(d.sup.roles()[3], Role::kGrip) << "still coming in";
+    for (int i = 0; i < 5; ++i) d.Tick();
+    if (shift == 0.0) {
+      EXPECT_EQ(d.sup.roles()[3], Role::kGrip) << "without a shift it is given its second";
+      continue;
+    }
+    EXPECT_EQ(d.sup.roles()[3], Role::kFree) << "lifted again";
+    EXPECT_NE(d.sup.note().find("placing finger R again: it stopped short of the surface"),
+              std::string::npos);
+    // Over a point 0.3 rad from its home's, toward its base, as far out as before, and so on,
+    // 0.3 rad more each time it stops short, up to 0.6 rad.
+    for (const double turned : {0.3, 0.6, 0.6}) {
+      d.Event(EventType::kTargetReached, 3);
+      const FingerTask over = d.Tick().task.fingers[3];
+      ASSERT_EQ(over.primitive, Primitive::kPosition);
+      const Eigen::Vector3d expected =
+          c + 0.047 * Eigen::Vector3d(-std::sin(turned), -std::cos(turned), 0.0);
+      EXPECT_LT((over.target - expected).norm(), 1e-9) << turned;
+      d.Event(EventType::kTargetReached, 3);
+      ASSERT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kComposite);
+      for (int i = 0; i < 31; ++i) d.Tick();
+      ASSERT_EQ(d.sup.roles()[3], Role::kFree) << "lifted again";
+    }
+  }
+}
+
 TEST(SupervisorTest, AFingerWhoseLinksMetTheObjectInATurnSitsTheTurnsOut) {
   TaskParams tp;
   tp.turn.mode = TurnMode::kFourFingers;
