@@ -106,12 +106,14 @@ void FingerReplacer::Lift(int f, const std::string& why) {
 
 void FingerReplacer::MoveOverHome(int f) {
   const Eigen::Vector3d direction = PlacementDirection(f);
-  // As far out as its home, or as the felt surface there (a point inside it would be pushed
-  // into the object by a position move).
+  // As far out as its home, or as the felt surface there where the model knows it lies farther
+  // (a point inside it would be pushed into the object by a position move).
   double out = (board_->home[f] - board_->home_centre).norm();
   const Eigen::Matrix3d to_palm = board_->view.object.linear();
   const SurfacePoint felt = board_->surface.Along(to_palm.transpose() * direction);
-  if (felt.known) out = std::max(out, felt.distance_m + board_->tip_radius_m);
+  if (felt.Differs(out - board_->tip_radius_m)) {
+    out = std::max(out, felt.distance_m + board_->tip_radius_m);
+  }
   const Eigen::Vector3d target =
       board_->view.object.translation() + direction * (out + params_.replace_lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);

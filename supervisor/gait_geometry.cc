@@ -76,8 +76,6 @@ double GaitGeometry::StepLimit(const Eigen::Vector3d& axis_in, const ControllerV
 }
 
 namespace {
-// Closer than this to the home's distance, the felt surface and the home's sphere agree.
-constexpr double kSameSurfaceM = 0.003;
 // Homes within this of the level through the centre: the fingers stand around the vertical.
 constexpr double kLevelHomeRad = 0.35;
 
@@ -122,12 +120,8 @@ Eigen::Vector3d GaitGeometry::ExplorePoint(int f, const Eigen::AngleAxisd& turn,
   if (tip_radius_m <= 0) return guess;
   const Eigen::Matrix3d to_palm = view.object.linear();
   const SurfacePoint s = surface.Along(to_palm.transpose() * (guess - centre));
-  if (!s.known) return guess;
-  // Where the felt surface agrees with the home's distance (a sphere, a cylinder's round side
-  // about its axis), within what the model is sure of, the home's point stands: the model only
-  // moves the explorer where it knows the surface lies elsewhere.
-  const double disagreement = std::abs(s.distance_m + tip_radius_m - (guess - centre).norm());
-  if (disagreement <= std::max(2.0 * s.sigma_m, kSameSurfaceM)) return guess;
+  // The model only moves the explorer where it knows the surface lies elsewhere.
+  if (!s.Differs((guess - centre).norm() - tip_radius_m)) return guess;
   return centre + to_palm * (s.point + tip_radius_m * s.normal);
 }
 

@@ -11,6 +11,8 @@
 // kernel of width kernel_rad), and the normal likewise. On a face this is exact; on a curved
 // surface it is right to first order where a sphere-about-the-centre model is not; the pose
 // estimate's noise (0.5 cm in the paper) averages out over the contacts near d.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -34,6 +36,13 @@ struct SurfacePoint {
   double distance_m = 0.0;        // from the centre along the direction
   double sigma_m = 0.0;           // its uncertainty (spread of the planes and the pose noise)
   double support = 0.0;           // the kernel weight of the contacts behind it
+
+  // Whether this point lies elsewhere than `distance_m` from the centre by more than the model
+  // is sure of (twice its sigma, and at least 3 mm): where it does not, a plan made on the
+  // home's sphere stands (a sphere, a cylinder's round side about its axis).
+  bool Differs(double distance) const {
+    return known && std::abs(distance_m - distance) > std::max(2.0 * sigma_m, 0.003);
+  }
 };
 
 // One contact the model keeps, in the object's frame.
