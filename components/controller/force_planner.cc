@@ -142,16 +142,18 @@ std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vect
   constexpr double kPull = 1e-3;
   a += kPull * Eigen::Matrix3d::Identity();
   b += kPull * fallback;
-  const Eigen::Vector3d meet = a.ldlt().solve(b);
-  // Two nearly opposed normals that miss each other (an ellipsoid's skew pair) meet far along
-  // their common direction: at a 5 deg angle and 1 cm apart, 11 cm out. A convex object's normals
-  // meet inside it, nearer the fallback than its farthest contact; beyond that the lines pin
-  // nothing, and the fallback stands.
+  return Eigen::Vector3d(a.ldlt().solve(b));
+}
+
+Eigen::Vector3d CentreWithinReach(const Eigen::Vector3d& point, const Eigen::Vector3d& fallback,
+                                  const std::vector<Eigen::Vector3d>& contacts,
+                                  const std::vector<bool>& grip) {
+  DMPL_DEMAND(contacts.size() == grip.size());
   double reach = 0.0;
   for (size_t i = 0; i < contacts.size(); ++i) {
     if (grip[i]) reach = std::max(reach, (contacts[i] - fallback).norm());
   }
-  return (meet - fallback).norm() > reach ? fallback : meet;
+  return (point - fallback).norm() > 2.0 * reach ? fallback : point;
 }
 
 namespace {

@@ -34,13 +34,20 @@ ForcePlan PlanGripForces(const std::vector<Eigen::Vector3d>& contacts,
 // The point nearest to every grip contact's normal line (contact point + t * normal): the centre
 // of a sphere, a point on a cylinder's axis. Forces aimed there push along the normals. Lines
 // that do not pin a point (parallel normals: two opposed fingers) leave the free directions at
-// `fallback`. Lines that meet farther from `fallback` than the farthest grip contact (nearly
-// opposed normals that miss each other) pin no point: `fallback`. Nothing when fewer than two
-// grip contacts have a normal.
+// `fallback`. Nothing when fewer than two grip contacts have a normal.
 std::optional<Eigen::Vector3d> NormalsMeetingPoint(const std::vector<Eigen::Vector3d>& contacts,
                                                    const std::vector<Eigen::Vector3d>& normals,
                                                    const std::vector<bool>& grip,
                                                    const Eigen::Vector3d& fallback);
+
+// Where a finger without contact is sent to find the object: `point` (where the grip's forces
+// meet), or `fallback` (the object's estimate) when `point` lies farther from it than twice the
+// farthest grip contact. Two nearly opposed normals that miss each other (an ellipsoid's skew
+// pair) meet far out along their common direction, 10 cm at 5 deg and 1 cm apart: toward there a
+// finger leaves the object.
+Eigen::Vector3d CentreWithinReach(const Eigen::Vector3d& point, const Eigen::Vector3d& fallback,
+                                  const std::vector<Eigen::Vector3d>& contacts,
+                                  const std::vector<bool>& grip);
 
 // Grip forces aimed at `aim`, within [minimum_n, maximum_n], that minimise
 //   balance_weight |sum - net|^2 + |f - nominal|^2:

@@ -591,10 +591,14 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
   const double squeezed_minimum = minimum * (squeeze / grip_force);
   g.plan = bounded ? *bounded
                    : PlanGripForces(contacts, in_grip, squeeze, squeezed_minimum, external, aim);
-  // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate.
+  // Where the object is, as far as the fingers can tell: the grip centroid, else the estimate;
+  // a centroid far out where skew normals meet is no place to look for it.
   g.centre = grip_contacts >= 2 ? g.plan.centroid
                                 : (has_estimate_ ? Eigen::Vector3d(estimate_.translation())
                                                  : Eigen::Vector3d::Zero());
+  if (grip_contacts >= 2 && has_estimate_) {
+    g.centre = CentreWithinReach(g.centre, estimate_.translation(), contacts, in_grip);
+  }
   out_.contact_centroid = g.centre;
   return g;
 }

@@ -104,36 +104,25 @@ TEST(NormalsMeetingPointTest, OpposedFingersLeaveTheirAxisToTheFallback) {
   EXPECT_FALSE(NormalsMeetingPoint({c[0]}, {n[0]}, {true}, c[0]).has_value());
 }
 
-// The point nearest to the grip contacts' normal lines, with NormalsMeetingPoint's small pull
-// toward `fallback` and without its cap: where the lines alone put it.
-Eigen::Vector3d LinesNearestPoint(const std::vector<Eigen::Vector3d>& c,
-                                  const std::vector<Eigen::Vector3d>& n,
-                                  const std::vector<bool>& grip, const Eigen::Vector3d& fallback) {
-  Eigen::Matrix3d a = 1e-3 * Eigen::Matrix3d::Identity();
-  Eigen::Vector3d b = 1e-3 * fallback;
-  for (size_t i = 0; i < c.size(); ++i) {
-    if (!grip[i]) continue;
-    const Eigen::Matrix3d off = Eigen::Matrix3d::Identity() - n[i] * n[i].transpose();
-    a += off;
-    b += off * c[i];
-  }
-  return a.ldlt().solve(b);
-}
-
 // An ellipsoid held by two fingers whose normals are 5 deg from opposed and miss each other by
-// 1 cm: their lines' nearest point lies ~10 cm away, where a finger sent toward it to regain its
-// contact leaves the object. The estimate stands instead.
-TEST(NormalsMeetingPointTest, NearlyOpposedNormalsThatMissEachOtherPinNoPoint) {
+// 1 cm: their lines meet ~10 cm out, where a finger sent to regain its contact leaves the object;
+// the estimate stands instead. Where the lines meet at a sphere's centre, that point stands.
+TEST(CentreWithinReachTest, WhereSkewNormalsMeetFarOutTheEstimateStands) {
   const Eigen::Vector3d centre(0.07, 0.0, 0.015);
   const double tilt = 5.0 * M_PI / 180.0;
   const std::vector<Eigen::Vector3d> c = {centre + Eigen::Vector3d(0.005, 0.025, 0.001),
                                           centre + Eigen::Vector3d(-0.005, -0.025, -0.001)};
   const std::vector<Eigen::Vector3d> n = {{std::sin(tilt), -std::cos(tilt), 0.0}, {0.0, 1.0, 0.0}};
   const Eigen::Vector3d estimate = centre + Eigen::Vector3d(0.002, 0.0, 0.0);
-  EXPECT_GT((LinesNearestPoint(c, n, {true, true}, estimate) - centre).norm(), 0.08);
-  const auto p = NormalsMeetingPoint(c, n, {true, true}, estimate);
-  ASSERT_TRUE(p.has_value());
-  EXPECT_LT((*p - estimate).norm(), 1e-12);
+  const auto meet = NormalsMeetingPoint(c, n, {true, true}, estimate);
+  ASSERT_TRUE(meet.has_value());
+  EXPECT_GT((*meet - centre).norm(), 0.08);
+  EXPECT_EQ(CentreWithinReach(*meet, estimate, c, {true, true}), estimate);
+  std::vector<Eigen::Vector3d> sc, sn;
+  SphereContacts(0.3, &sc, &sn, centre);
+  const std::vector<bool> grip = {true, true, true, false};
+  const auto sphere = NormalsMeetingPoint(sc, sn, grip, estimate);
+  EXPECT_EQ(CentreWithinReach(*sphere, estimate, sc, grip), *sphere);
 }
 
 TEST(PlanBoundedForcesTest, ContactsBelowTheEquatorCarryTheWeightAlongTheirNormals) {
@@ -295,11 +284,9 @@ TEST(AimWithinConesTest, APinchAcrossACapsuleKeepsItsSqueezeWhileAPushOnACapIsEa
                                           cap + 0.02 * out};
   const std::vector<Eigen::Vector3d> n = {{0, 0, 1}, {0, -1, 0}, {0, 0, -1}, -out};
   const std::vector<bool> grip = {true, false, true, true};
-  // The lines meet well behind the thumb; NormalsMeetingPoint takes the centre there (a point
-  // that far pins nothing), and the cone is what keeps a plan aimed at such a point pushing.
-  const std::optional<Eigen::Vector3d> meet = LinesNearestPoint(c, n, grip, centre);
+  const auto meet = NormalsMeetingPoint(c, n, grip, centre);
+  ASSERT_TRUE(meet.has_value());
   EXPECT_LT((*meet)[2], c[0][2] - 0.03) << "the lines meet well behind the thumb";
-  EXPECT_LT((*NormalsMeetingPoint(c, n, grip, centre) - centre).norm(), 1e-12);
   const auto plan_along = [&](double max_off) {
     return PlanBoundedForcesAlong(AimWithinCones(c, n, grip, *meet, max_off), grip, *meet, 2.0,
                                   0.1, 2.5, Eigen::Vector3d::Zero());
