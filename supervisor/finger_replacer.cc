@@ -42,7 +42,9 @@ void FingerReplacer::Tick(double recovery_since) {
         if (board_->reached[f] || since > 1.0) MoveOverHome(f);
         break;
       case Stage::kOver:
-        if (board_->reached[f] || since > 1.5) BringIn(f);
+        // A tip that meets the surface on its way over grips there: pressing on toward a point
+        // inside the object would push the object or lay a link on it.
+        if (touching || board_->reached[f] || since > 1.5) BringIn(f);
         break;
       case Stage::kIn:
         // Touching: done; stopped short of the surface (its links on the object, or another

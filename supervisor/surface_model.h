@@ -37,9 +37,10 @@ struct SurfacePoint {
   double sigma_m = 0.0;           // its uncertainty (spread of the planes and the pose noise)
   double support = 0.0;           // the kernel weight of the contacts behind it
 
-  // Whether this point lies elsewhere than `distance_m` from the centre by more than the model
-  // is sure of (twice its sigma, and at least 3 mm): where it does not, a plan made on the
-  // home's sphere stands (a sphere, a cylinder's round side about its axis).
+  // Whether the surface is known to lie elsewhere than `distance` (m from the centre along the
+  // same direction) by more than the model is sure of (twice its sigma, and at least 3 mm): where
+  // it is not, a plan made on the home's sphere stands (a sphere, a cylinder's round side about
+  // its axis).
   bool Differs(double distance) const {
     return known && std::abs(distance_m - distance) > std::max(2.0 * sigma_m, 0.003);
   }

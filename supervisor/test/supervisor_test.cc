@@ -280,6 +280,31 @@ void PlaceTips(Driver* d, double radius) {
   d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
 }
 
+// On its way over its home, R's tip meets the surface: it grips there at once instead of pressing
+// on toward its point, inside the object.
+TEST(SupervisorTest, AFingerPlacedAgainThatTouchesOnItsWayGripsThere) {
+  Driver d("fig8_rotate");
+  PlaceTips(&d, 0.037);
+  d.Grasp();
+  ASSERT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+  FingerView& r = d.view.fingers[3];
+  r.in_contact = false;
+  d.Event(EventType::kContactLost, 3);
+  for (int i = 0; i < 26; ++i) d.Tick();
+  ASSERT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kPosition) << "lifted";
+  d.Event(EventType::kTargetReached, 3);
+  ASSERT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kPosition) << "on its way over";
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_EQ(d.Tick().task.fingers[3].primitive, Primitive::kPosition) << "still on its way";
+  }
+  r.in_contact = true;
+  const FingerTask grip = d.Tick().task.fingers[3];
+  EXPECT_EQ(grip.primitive, Primitive::kComposite);
+  EXPECT_EQ(grip.role, Role::kGrip);
+  for (int i = 0; i < 20; ++i) d.Tick();
+  EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+}
+
 // Brought in, R's tip stops short of the object (its link on it, or another finger in the way):
 // the same point would stop it the same way, so it is lifted at once and placed nearer its base.
 TEST(SupervisorTest, AFingerThatStopsShortOfTheSurfaceIsPlacedAgainNearerItsBase) {
