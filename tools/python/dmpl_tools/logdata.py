@@ -189,6 +189,7 @@ class LogData:
             "roles": _get(sup, "role", (len(self.supervisor_fingers),), int).astype(int),
             "rotation_commanded": _get(sup, "rotation_commanded_rad"),
             "regrasps": _get(sup, "regrasps", (), int),
+            "recoveries": _get(sup, "recoveries", (), int),
             "finished": _get(sup, "finished", (), bool),
             "failed": _get(sup, "failed", (), bool),
             "last_action": list(sup.get("last_action", [""] * len(_t(sup)))),

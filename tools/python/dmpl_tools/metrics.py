@@ -33,6 +33,8 @@ Definitions (the run's config section `metrics` sets the thresholds):
   rate_goal_tolerance_rad of task.angle (the end of the run if it never does), divided by that
   time; toward goal orientations, the angles from where the object was when each reached goal
   became current to that goal, summed, over the time those goals took.
+- recoveries: the supervisor's recoveries (a contact lost, a slip, a finger resting on a link,
+  a process back), over the whole run.
 - palm_turned_rad: the angle between gravity in the palm frame (the simulator's truth) at the
   run's start and at its end: how far the palm turned (sim.palm_motion).
 - goals_reached (runs with task.goals or task.random_goals): goals reached one after another;
@@ -130,6 +132,7 @@ def compute(data, config):
         summary["link_contact_s"] = _link_contact_time(tact, t_begin, m["link_contact_n"])
     if len(sup):
         summary["regrasps"] = int(sup["regrasps"][-1])
+        summary["recoveries"] = int(sup["recoveries"][-1])
         summary["rotation_commanded_rad"] = float(sup["rotation_commanded"][-1])
         summary["max_tracking_error_rad"] = _tracking_error(data, t, rotation, i_begin)
         summary.update(_supervisor_verdict(sup))
@@ -139,6 +142,7 @@ def compute(data, config):
         summary.update(_grip_force_error(data, t_begin))
     else:
         summary["regrasps"] = 0
+        summary["recoveries"] = 0
     if data.sim_status:
         last = data.sim_status
         summary["lockstep_faults"] = int(last["faults"])

@@ -326,7 +326,7 @@ FACES_FIGURE = ("faces.png", "The face each finger touches, detected by touch ag
 
 HEADLINE = ["status", "engine", "object_shape", "object_mass_kg", "seed", "sim_time_s", "realtime_factor",
             "object_dropped", "rotation_total_rad", "final_orientation_error_rad",
-            "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
+            "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps", "recoveries",
             "max_tracking_error_rad", "exploration_force_mean_n", "exploration_force_rms_error_n",
             "rotation_rate_rad_s", "goals_reached", "time_per_goal_median_s",
             "time_per_goal_p90_s", "link_contact_s"]

@@ -272,7 +272,7 @@ def _pinned(processes, pins):
 
 HEADLINE = ["status", "engine", "object_dropped", "rotation_total_rad",
             "final_orientation_error_rad", "max_position_drift_m", "grip_force_total_n", "contacts_lost", "regrasps",
-            "sim_time_s", "wall_time_s", "realtime_factor"]
+            "recoveries", "sim_time_s", "wall_time_s", "realtime_factor"]
 
 
 def print_headline(summary, out, stream=sys.stdout):
