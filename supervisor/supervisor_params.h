@@ -229,17 +229,19 @@ struct SupervisorParams {
   // In a recovery, a grip finger still without contact this long after the recovery began is
   // placed again (<= 0: never): lifted off by replace_lift_m along the line from the object's
   // centre, moved to its home (where it held the object when the first task began, about where
-  // the object is now) as far out, and brought in by a grip. A finger that lost its contact far
-  // from home often rests on the object with a link (no tactile sensor there) and would press
-  // on it forever with its tip just short of the surface.
+  // the object is now) as far out (or out to the felt surface, where the model knows it lies
+  // farther), and brought in by a grip; a tip that touches on its way grips there. A finger that
+  // lost its contact far from home often rests on the object with a link (no tactile sensor
+  // there) and would press on it forever with its tip just short of the surface.
   double replace_after_s = 0.2;
   double replace_lift_m = 0.01;
   // A finger brought in whose tip stops short of the surface (it moves less than replace_stall_m
   // in replace_stall_s without a contact: its links on the object, or another finger in the
   // way) is lifted at once, and its next point is turned about the object's centre toward its
   // base (against its tip's axis) by replace_shift_rad more than the last, up to
-  // replace_max_shift_rad, where it comes at the surface more head-on (0: the same point again,
-  // after a second).
+  // replace_max_shift_rad, to come at the surface more head-on (0: the same point again, after a
+  // second). Measured in stop 48 (docs/benchmarks.md): the spheres' runs unchanged, the
+  // ellipsoid's goals up; on flat and long objects the turned point stops short too.
   double replace_stall_s = 0.3;
   double replace_stall_m = 0.002;
   double replace_shift_rad = 0.3;
