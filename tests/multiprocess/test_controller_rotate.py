@@ -58,7 +58,9 @@ class Supervisor(threading.Thread):
     def on_status(self, channel, data):
         s = controller_status_t.decode(data)
         t = s.utime * 1e-6
-        done = any(e.type == MOTION_DONE for e in s.events)
+        # Only the task under way's: a report the controller sends again (its answer was late)
+        # carries the last task's MOTION_DONE once more, which must not end this one at once.
+        done = s.task_id == self.task_id and any(e.type == MOTION_DONE for e in s.events)
         target = None
         if self.phase == "grip":
             if t >= 0.2 and not self.released:
