@@ -1,10 +1,11 @@
 #pragma once
 // In a recovery, a grip finger that does not touch again is placed again
 // (supervisor.replace_after_s): lifted off along the line from the object's centre, moved over
-// its home as far out (never inside the felt surface), and brought in by a grip. Brought in to
-// the same point, a finger whose links met the object short of its tip meets it the same way
-// again: a finger that stops short of the surface is lifted at once and its next point turned
-// toward its base (supervisor.replace_shift_rad). A finger that lost its contact far from home
+// its home as far out (out to the felt surface where the model knows it lies farther), and
+// brought in by a grip; a tip that touches on its way grips there. Brought in to the same point,
+// a finger whose links met the object short of its tip meets it the same way again: a finger that
+// stops short of the surface is lifted at once and its next point turned toward its base
+// (supervisor.replace_shift_rad). A finger that lost its contact far from home
 // often rests on the object with a link (no tactile sensor there) and would press on it forever
 // with its tip just short of the surface; so would one that touches with a link while its tip
 // touches too (supervisor.replace_on_link).
