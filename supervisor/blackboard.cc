@@ -39,6 +39,13 @@ void Blackboard::SetFinger(int f, Role role, Primitive primitive, const Eigen::V
   t.force_n = force;
 }
 
+Eigen::Vector3d Blackboard::LiftedOff(int f, double by) const {
+  const Eigen::Vector3d& tip = view.fingers[f].tip;
+  Eigen::Vector3d out = tip - view.object.translation();
+  if (out.norm() < 1e-6) out = home[f] - home_centre;
+  return tip + by * out.normalized();
+}
+
 void Blackboard::AllGrip() {
   for (int f = 0; f < num_fingers(); ++f) SetFinger(f, Role::kGrip, Primitive::kComposite);
 }

@@ -28,6 +28,9 @@ struct Blackboard {
   // The controller said so since the motion began, or says so now.
   bool MotionDone() const { return motion_done_event || view.motion_done; }
   Eigen::Quaterniond SensedOrientation() const;
+  // Finger f's tip moved `by` off the object, along the line from its sensed centre (along its
+  // home's, where the tip stands at the centre).
+  Eigen::Vector3d LiftedOff(int f, double by) const;
   // What this tick's fingertip contacts say of the object's surface (view's contact points,
   // normals from the tip centres), of its edges and of the tips' radius.
   void LearnSurface();

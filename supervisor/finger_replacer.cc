@@ -92,10 +92,7 @@ bool FingerReplacer::RestsOnLink(int f) const {
 
 void FingerReplacer::Lift(int f, const std::string& why) {
   // Off the surface along the line from the centre.
-  const Eigen::Vector3d& tip = board_->view.fingers[f].tip;
-  Eigen::Vector3d out = tip - board_->view.object.translation();
-  if (out.norm() < 1e-6) out = board_->home[f] - board_->home_centre;
-  const Eigen::Vector3d target = tip + params_.replace_lift_m * out.normalized();
+  const Eigen::Vector3d target = board_->LiftedOff(f, params_.replace_lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
   // Lifted, its links touch nothing: a LINK_RELEASED lost on the way (real time) leaves no

@@ -279,9 +279,7 @@ int Gait::StruckFingerToLift(int skip) const {
 
 void Gait::LiftOff(int f) {
   const ControllerView& view = board_->view;
-  const Eigen::Vector3d& tip = view.fingers[f].tip;
-  const Eigen::Vector3d off =
-      tip + params_.struck_fingers.lift_m * (tip - view.object.translation()).normalized();
+  const Eigen::Vector3d off = board_->LiftedOff(f, params_.struck_fingers.lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &off);
   board_->out.changed = true;
   lifted_ = f;

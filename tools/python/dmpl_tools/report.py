@@ -259,7 +259,7 @@ def _plot_link_contacts(ax, data, f, name, labelled):
 
 def link_contact_spans(events, name, end_s):
     """Finger `name`'s inferred link contacts as (from, to) times: each LINK_CONTACT to the next
-    LINK_RELEASED, the last one to `end_s`. None when the log has no LINK_RELEASED for it."""
+    LINK_RELEASED, the last one to `end_s`. Empty when the log has no LINK_RELEASED for it."""
     spans, since, released = [], None, False
     for t, kind, finger, *_ in sorted(events, key=lambda e: e[0]):
         if finger != name:
