@@ -25,7 +25,8 @@ from dmpl import controller_status_t, hand_sensors_t, sim_control_t, supervisor_
 from dmpl_tools import experiment, faces, metrics
 from dmpl_tools.bus import Buses
 from dmpl_tools.export import export
-from dmpl_tools.logdata import LogData
+from dmpl_tools.logdata import LogData, Series
+from dmpl_tools.losses import recoveries, tally
 from dmpl_tools.phases import kind, summarize
 from dmpl_tools.report import make_report
 from dmpl_tools.run import run_experiment, strict_json, write_summary
@@ -302,6 +303,65 @@ class PhasesTest(unittest.TestCase):
         self.assertAlmostEqual(totals[("explore", "M")][1], 0.4)
         self.assertEqual(totals[("four-finger turn", "")], (1, 0.12))
         self.assertNotIn(("finish", ""), totals)
+
+
+class LossesTest(unittest.TestCase):
+    """A synthetic run at 100 Hz: R's link takes the load as a four-finger turn begins (and the
+    grasp recovers), F's tip comes off with no link on it during an explore, then a slip, and a
+    contact the tactile sensing lost while the tip still touched; the run fails in the last."""
+
+    @staticmethod
+    def run_of(fingers=("T", "F", "M", "R")):
+        t = np.round(np.arange(0.0, 10.0, 0.01), 2)
+        n = len(t)
+        state, action, note = ["Tasks"] * n, ["A4 R explore"] * n, [""] * n
+        touching = np.ones((n, 4), dtype=bool)
+        link = np.zeros((n, 4))
+
+        def span(a, b):
+            return (t >= a - 1e-9) & (t < b - 1e-9)
+
+        def recover(at, until, why, then="Tasks"):
+            for i in np.flatnonzero(span(at, until)):
+                state[i], note[i] = "Recovering", "recovering: " + why
+            for i in np.flatnonzero(span(until, 10.0)):
+                state[i] = then
+        for i in np.flatnonzero(span(1.98, 3.0)):
+            action[i] = "A9 F grip + A1 TFMR rotate"
+        touching[span(2.0, 2.2), 3] = False          # R's tip lets go at 2.00 s...
+        link[span(2.01, 2.2), 3] = 3.0               # ...and its link carries 3 N from 2.01 s
+        recover(2.1, 2.5, "finger R lost its grip contact")
+        for i in np.flatnonzero(span(3.5, 5.0)):
+            action[i] = "A10 F explore"
+        touching[span(4.0, 4.3), 1] = False          # F's tip comes off; no link on it
+        recover(4.2, 4.6, "finger F lost its grip contact")
+        recover(6.0, 6.3, "the object slipped (tracking error 0.31 rad)")
+        recover(8.0, 10.0, "finger M lost its grip contact", then="Failed")  # M still touches
+        data = type("Run", (), {})()
+        data.fingers = list(fingers)
+        data.supervisor = Series(t, {"grasp_state": state, "last_action": action, "note": note})
+        data.tactile = Series(t, {"in_contact": touching, "link_force": link})
+        return data
+
+    def test_each_recovery_is_named_by_its_cause_finger_and_phase(self):
+        recs = recoveries(self.run_of(), link_n=0.05)
+        self.assertEqual([(r.cause, r.finger) for r in recs],
+                         [("link took the load", "R"), ("tip came off", "F"), ("slip", ""),
+                          ("sensed only", "M")])
+        first = recs[0]
+        self.assertAlmostEqual(first.t, 2.1)
+        self.assertEqual(first.phase, "grip + four turn")
+        self.assertAlmostEqual(first.into_phase_s, 0.02)   # from 1.98 s to the tip letting go
+        self.assertAlmostEqual(first.link_force_n, 3.0)
+        self.assertTrue(first.recovered)
+        self.assertEqual(recs[1].phase, "explore")
+        self.assertAlmostEqual(recs[1].into_phase_s, 0.5)
+        self.assertEqual(recs[1].link_force_n, 0.0)
+        self.assertTrue(math.isnan(recs[2].link_force_n))
+        self.assertFalse(recs[3].recovered)
+        self.assertEqual(tally(recs)[("link took the load", "grip + four turn")], 1)
+        # A link force under the threshold is no link contact.
+        self.assertEqual(recoveries(self.run_of(), link_n=5.0)[0].cause, "tip came off")
 
 
 class SummariesTest(unittest.TestCase):
