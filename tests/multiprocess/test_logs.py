@@ -26,7 +26,8 @@ from dmpl_tools import experiment, faces, metrics
 from dmpl_tools.bus import Buses
 from dmpl_tools.export import export
 from dmpl_tools.logdata import LogData, Series
-from dmpl_tools.losses import recoveries, tally
+from dmpl_tools.hand_geometry import load_hand
+from dmpl_tools.losses import ContactAngles, recoveries, tally
 from dmpl_tools.phases import kind, summarize
 from dmpl_tools.report import make_report
 from dmpl_tools.run import run_experiment, strict_json, write_summary
@@ -362,6 +363,28 @@ class LossesTest(unittest.TestCase):
         self.assertEqual(tally(recs)[("link took the load", "grip + four turn")], 1)
         # A link force under the threshold is no link contact.
         self.assertEqual(recoveries(self.run_of(), link_n=5.0)[0].cause, "tip came off")
+
+    def test_the_contact_angle_is_measured_round_the_tip_from_its_front(self):
+        hand = load_hand()
+        names = [j.name for j in hand.joints if j.kind == "revolute"]
+        q = np.array([[0.1 * (k % 4) for k in range(len(names))]])
+        axis = hand.link_poses(dict(zip(names, q[0])))["R_tip"][:3, 2]
+        side = np.cross(axis, [1.0, 0.0, 0.0])
+        side /= np.linalg.norm(side)
+        angles = []
+        # The normal points from the object into the tip: against the axis is a front contact.
+        for normal in (-axis, side, axis):
+            normals = np.zeros((1, 4, 3))
+            normals[0, 3] = normal
+            data = type("Run", (), {})()
+            data.fingers = ["T", "F", "M", "R"]
+            data.columns = type("Columns", (), {
+                "channels": {"DMPL_SENSORS_TRUE": {"joints": names}},
+                "table": lambda self, channel, n=normals: {"joint_position": q,
+                                                           "tactile_normal": n}})()
+            angles.append(ContactAngles(data, hand)(3, 0))
+        np.testing.assert_allclose(angles, [0.0, 90.0, 180.0], atol=1e-6)
+        self.assertTrue(math.isnan(ContactAngles(data, None)(3, 0)))
 
 
 class SummariesTest(unittest.TestCase):

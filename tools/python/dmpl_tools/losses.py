@@ -10,21 +10,26 @@ truth tells how: the tip left the object while a link of the same finger took th
 took the load": the link force above `metrics.link_contact_n` within 30 ms before to 100 ms
 after the tip let go), the tip left it with no link on it ("tip came off"), or the tip still
 touched when the controller counted it lost ("sensed only"). The phase is the regrasp chart's
-action when the tip let go (dmpl_tools.phases names its kind), with how long it had lasted.
-Needs the truth at least every 10 ticks: any record policy but none.
+action when the tip let go (dmpl_tools.phases names its kind), with how long it had lasted, and
+the contact's angle round the tip from its front just before (the tip's axis by forward
+kinematics of the true joints against the true normal: past ~95 deg the distal link's box lies
+within a few millimetres of a flat surface). Needs the truth at least every 10 ticks: any record
+policy but none.
 """
 import argparse
 import json
 import re
 import sys
+import tempfile
 from collections import Counter
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from . import experiment
-from .logdata import LogData, LogError
+from . import channels, experiment
+from .hand_geometry import UrdfError, load_hand
+from .logdata import Columns, LogData, LogError, extract
 from .phases import kind
 
 LINK_BEFORE_S = 0.03   # a link already on the object just before the tip let go...
@@ -41,6 +46,7 @@ class Recovery:
     action: str           # the regrasp chart's action then
     into_phase_s: float   # how long that action had lasted
     link_force_n: float   # the finger's most link force around the loss (truth); NaN: no finger
+    contact_angle_deg: float  # round the tip from its front, just before it let go; NaN: unknown
     recovered: bool       # the grasp chart went back to its tasks
 
 
@@ -66,15 +72,39 @@ def _reason(notes, i0, i1):
     return ""
 
 
-def _contact_loss(data, f, onset, link_n):
-    """(cause, when the tip let go, link force) of finger f's lost contact before `onset`."""
+class ContactAngles:
+    """A finger's contact angle round its tip (deg, 0: its front) at a row of the truth: the tip
+    frame's axis (forward kinematics of the true joints) against the true normal."""
+
+    def __init__(self, data, hand):
+        truth = data.columns.table(channels.SENSORS_TRUE)
+        self.names = data.columns.channels.get(channels.SENSORS_TRUE, {}).get("joints", [])
+        self.q = truth.get("joint_position")
+        self.normals = truth.get("tactile_normal")
+        self.hand, self.fingers = hand, list(data.fingers)
+
+    def __call__(self, f, i):
+        if self.hand is None or self.q is None or self.normals is None or not self.names:
+            return float("nan")
+        poses = self.hand.link_poses(dict(zip(self.names, self.q[i])))
+        tip = poses.get(self.fingers[f] + "_tip")
+        normal = np.asarray(self.normals[i][f], dtype=float)
+        if tip is None or not np.linalg.norm(normal) > 0.5:
+            return float("nan")
+        into = -normal / np.linalg.norm(normal)  # the normal points from the object into the tip
+        return float(np.degrees(np.arccos(np.clip(tip[:3, 2] @ into, -1.0, 1.0))))
+
+
+def _contact_loss(data, f, onset, link_n, angle_at):
+    """(cause, when the tip let go, link force, contact angle) of finger f's lost contact before
+    `onset`."""
     tac = data.tactile
     t = np.asarray(tac.t, dtype=float)
     i_on = _index_at(t, onset)
     touching = np.asarray(tac["in_contact"][:, f], dtype=bool)
     link = np.nan_to_num(np.asarray(tac["link_force"][:, f], dtype=float))
     if touching[i_on]:
-        return "sensed only", onset, float(link[i_on])
+        return "sensed only", onset, float(link[i_on]), angle_at(f, i_on)
     i = i_on
     first = _index_at(t, onset - LOOK_BACK_S)
     while i > first and not touching[i - 1]:
@@ -82,11 +112,14 @@ def _contact_loss(data, f, onset, link_n):
     let_go = float(t[i])
     window = (t >= let_go - LINK_BEFORE_S) & (t <= let_go + LINK_AFTER_S)
     most = float(link[window].max()) if window.any() else 0.0
-    return ("link took the load" if most > link_n else "tip came off"), let_go, most
+    angle = angle_at(f, max(i - 1, 0))
+    return ("link took the load" if most > link_n else "tip came off"), let_go, most, angle
 
 
-def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"]):
-    """[Recovery] of a LogData, in time order."""
+def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], angle_at=None):
+    """[Recovery] of a LogData, in time order; `angle_at(f, truth row)`: the contact angle (deg;
+    ContactAngles), or None."""
+    angle_at = angle_at or (lambda f, i: float("nan"))
     sup = data.supervisor
     t = np.asarray(sup.t, dtype=float)
     states = [str(s) for s in sup["grasp_state"]]
@@ -99,18 +132,20 @@ def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"]):
         reason = _reason(sup["note"], i, _index_at(t, onset + 0.05) + 1)
         end = next((j for j in range(i, len(states)) if states[j] != "Recovering"), None)
         recovered = end is not None and states[end] == "Tasks"
-        finger, cause, when, link = "", "other", onset, float("nan")
+        finger, cause, when, link, angle = "", "other", onset, float("nan"), float("nan")
         lost = re.search(r"finger (\w+) lost its grip contact", reason)
         rests = re.search(r"finger (\w+) rests on a link", reason)
         if lost and lost.group(1) in fingers:
             finger = lost.group(1)
-            cause, when, link = _contact_loss(data, fingers.index(finger), onset, link_n)
+            cause, when, link, angle = _contact_loss(data, fingers.index(finger), onset, link_n,
+                                                     angle_at)
         elif rests:
             finger, cause = rests.group(1), "link rest"
         elif "slipped" in reason:
             cause = "slip"
         action, lasted = _phase_at(sup, when)
-        out.append(Recovery(onset, cause, finger, kind(action), action, lasted, link, recovered))
+        out.append(Recovery(onset, cause, finger, kind(action), action, lasted, link, angle,
+                            recovered))
     return out
 
 
@@ -119,12 +154,30 @@ def tally(recs):
     return Counter((r.cause, r.phase) for r in recs)
 
 
-def _link_threshold(log):
+def _run_settings(log):
+    """(link contact threshold, hand or None) of the run whose log this is."""
     config = Path(log).parent / "config.yaml"
-    if config.exists():
-        metrics = (experiment.load_yaml(config) or {}).get("metrics", {}) or {}
-        return float(metrics.get("link_contact_n", experiment.METRICS_DEFAULTS["link_contact_n"]))
-    return experiment.METRICS_DEFAULTS["link_contact_n"]
+    link_n = experiment.METRICS_DEFAULTS["link_contact_n"]
+    if not config.exists():
+        return link_n, None
+    metrics = (experiment.load_yaml(config) or {}).get("metrics", {}) or {}
+    try:
+        hand = load_hand(config)
+    except UrdfError as e:
+        print(f"losses: {log}: no contact angles ({e})", file=sys.stderr)
+        hand = None
+    return float(metrics.get("link_contact_n", link_n)), hand
+
+
+def _recoveries_of(log):
+    """[Recovery] of one log (its columns read while the contact angles need them)."""
+    if not Path(log).is_file():
+        raise LogError(f"no such log '{log}'")
+    link_n, hand = _run_settings(log)
+    with tempfile.TemporaryDirectory(prefix="dmpl-losses-") as tmp:
+        extract(log, tmp)
+        data = LogData(Columns(tmp))
+        return recoveries(data, link_n, ContactAngles(data, hand))
 
 
 def main(argv=None):
@@ -136,14 +189,16 @@ def main(argv=None):
     every, failed = [], 0
     for log in args.logs:
         try:
-            data = LogData.from_log(log)
+            found = _recoveries_of(log)
         except LogError as e:
             print(f"losses: {log}: {e}", file=sys.stderr)
             failed += 1
             continue
-        for r in recoveries(data, _link_threshold(log)):
+        for r in found:
             every.append(dict(asdict(r), log=str(log)))
             link = "" if np.isnan(r.link_force_n) else f" link {r.link_force_n:.2f} N"
+            if not np.isnan(r.contact_angle_deg):
+                link += f", contact {r.contact_angle_deg:.0f} deg round the tip"
             print(f"{log}: {r.t:7.2f} s {r.finger or '-':2s} {r.cause:18s} in '{r.action}' "
                   f"after {r.into_phase_s:.2f} s{link}{'' if r.recovered else ' (not recovered)'}")
     if args.json:
