@@ -363,6 +363,10 @@ class LossesTest(unittest.TestCase):
         self.assertEqual(tally(recs)[("link took the load", "grip + four turn")], 1)
         # A link force under the threshold is no link contact.
         self.assertEqual(recoveries(self.run_of(), link_n=5.0)[0].cause, "tip came off")
+        # The contact angle is taken at the last row the tip touched (1.99 s) and as the phase
+        # began (1.98 s): here an angle that names its row.
+        first = recoveries(self.run_of(), 0.05, angle_at=lambda f, i: float(i))[0]
+        self.assertEqual((first.contact_angle_deg, first.angle_at_phase_start_deg), (199.0, 198.0))
 
     def test_the_contact_angle_is_measured_round_the_tip_from_its_front(self):
         hand = load_hand()

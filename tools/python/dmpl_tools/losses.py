@@ -11,9 +11,9 @@ took the load": the link force above `metrics.link_contact_n` within 30 ms befor
 after the tip let go), the tip left it with no link on it ("tip came off"), or the tip still
 touched when the controller counted it lost ("sensed only"). The phase is the regrasp chart's
 action when the tip let go (dmpl_tools.phases names its kind), with how long it had lasted, and
-the contact's angle round the tip from its front just before (the tip's axis by forward
-kinematics of the true joints against the true normal: past ~95 deg the distal link's box lies
-within a few millimetres of a flat surface). Needs the truth at least every 10 ticks: any record
+the contact's angle round the tip from its front just before and as that phase began (the tip's
+axis by forward kinematics of the true joints against the true normal: past ~95 deg the distal
+link's box lies within a few millimetres of a flat surface). Needs the truth at least every 10 ticks: any record
 policy but none.
 """
 import argparse
@@ -47,6 +47,7 @@ class Recovery:
     into_phase_s: float   # how long that action had lasted
     link_force_n: float   # the finger's most link force around the loss (truth); NaN: no finger
     contact_angle_deg: float  # round the tip from its front, just before it let go; NaN: unknown
+    angle_at_phase_start_deg: float  # the same when the phase began (a placement, or a transition)
     recovered: bool       # the grasp chart went back to its tasks
 
 
@@ -144,8 +145,14 @@ def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], angle
         elif "slipped" in reason:
             cause = "slip"
         action, lasted = _phase_at(sup, when)
+        before = float("nan")
+        if finger and cause != "link rest":
+            f = fingers.index(finger)
+            row = _index_at(np.asarray(data.tactile.t, dtype=float), when - lasted)
+            if data.tactile["in_contact"][row, f]:
+                before = angle_at(f, row)
         out.append(Recovery(onset, cause, finger, kind(action), action, lasted, link, angle,
-                            recovered))
+                            before, recovered))
     return out
 
 
@@ -199,6 +206,8 @@ def main(argv=None):
             link = "" if np.isnan(r.link_force_n) else f" link {r.link_force_n:.2f} N"
             if not np.isnan(r.contact_angle_deg):
                 link += f", contact {r.contact_angle_deg:.0f} deg round the tip"
+            if not np.isnan(r.angle_at_phase_start_deg):
+                link += f" ({r.angle_at_phase_start_deg:.0f} as the phase began)"
             print(f"{log}: {r.t:7.2f} s {r.finger or '-':2s} {r.cause:18s} in '{r.action}' "
                   f"after {r.into_phase_s:.2f} s{link}{'' if r.recovered else ' (not recovered)'}")
     if args.json:
