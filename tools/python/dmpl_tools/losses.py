@@ -184,7 +184,26 @@ def _recoveries_of(log):
     with tempfile.TemporaryDirectory(prefix="dmpl-losses-") as tmp:
         extract(log, tmp)
         data = LogData(Columns(tmp))
+        missing = [what for what, rows in (("the supervisor's status", data.supervisor.t),
+                                           ("the simulator's truth", data.tactile.t))
+                   if not len(rows)]
+        if missing:
+            raise LogError(" and ".join(missing) + " missing (recorded with --record none, or "
+                           "not a dmpl run)")
         return recoveries(data, link_n, ContactAngles(data, hand))
+
+
+def _line(r):
+    """One recovery, as the command prints it."""
+    said = f"{r.t:7.2f} s {r.finger or '-':2s} {r.cause:18s} in '{r.action}' after " \
+           f"{r.into_phase_s:.2f} s"
+    if not np.isnan(r.link_force_n):
+        said += f" link {r.link_force_n:.2f} N"
+    if not np.isnan(r.contact_angle_deg):
+        said += f", contact {r.contact_angle_deg:.0f} deg round the tip"
+    if not np.isnan(r.angle_at_phase_start_deg):
+        said += f" ({r.angle_at_phase_start_deg:.0f} as the phase began)"
+    return said + ("" if r.recovered else " (not recovered)")
 
 
 def main(argv=None):
@@ -193,7 +212,7 @@ def main(argv=None):
     ap.add_argument("logs", nargs="+", help="runs' run.lcmlog")
     ap.add_argument("--json", help="write every recovery as JSON here")
     args = ap.parse_args(argv)
-    every, failed = [], 0
+    every, failed, unwritten = [], 0, False  # every: (log, Recovery)
     for log in args.logs:
         try:
             found = _recoveries_of(log)
@@ -202,23 +221,24 @@ def main(argv=None):
             failed += 1
             continue
         for r in found:
-            every.append(dict(asdict(r), log=str(log)))
-            link = "" if np.isnan(r.link_force_n) else f" link {r.link_force_n:.2f} N"
-            if not np.isnan(r.contact_angle_deg):
-                link += f", contact {r.contact_angle_deg:.0f} deg round the tip"
-            if not np.isnan(r.angle_at_phase_start_deg):
-                link += f" ({r.angle_at_phase_start_deg:.0f} as the phase began)"
-            print(f"{log}: {r.t:7.2f} s {r.finger or '-':2s} {r.cause:18s} in '{r.action}' "
-                  f"after {r.into_phase_s:.2f} s{link}{'' if r.recovered else ' (not recovered)'}")
+            every.append((log, r))
+            print(f"{log}: {_line(r)}")
     if args.json:
-        Path(args.json).write_text(json.dumps(every, indent=1))
-    counts = Counter((r["cause"], r["phase"]) for r in every)
+        rows = [{k: (None if isinstance(v, float) and np.isnan(v) else v)
+                 for k, v in dict(asdict(r), log=str(log)).items()} for log, r in every]
+        try:
+            Path(args.json).write_text(json.dumps(rows, indent=1, allow_nan=False))
+        except OSError as e:
+            print(f"losses: cannot write {args.json}: {e}", file=sys.stderr)
+            unwritten = True
+    counts = tally([r for _, r in every])
     if counts:
         print(f"\n{'cause':20s} {'phase':22s} {'count':>5s}")
         for (cause, phase), n in counts.most_common():
             print(f"{cause:20s} {phase:22s} {n:5d}")
     print(f"{len(every)} recoveries in {len(args.logs) - failed} logs")
-    return 2 if failed == len(args.logs) else 0
+    # The logs that could be read are tallied; one that could not fails the command.
+    return 2 if failed or unwritten else 0
 
 
 if __name__ == "__main__":
