@@ -13,8 +13,8 @@ touched when the controller counted it lost ("sensed only"). The phase is the re
 action when the tip let go (dmpl_tools.phases names its kind), with how long it had lasted, and
 the contact's angle round the tip from its front just before and as that phase began (the tip's
 axis by forward kinematics of the true joints against the true normal: past ~95 deg the distal
-link's box lies within a few millimetres of a flat surface). Needs the truth at least every 10 ticks: any record
-policy but none.
+link's box lies within a few millimetres of a flat surface). Needs the truth at least every 10
+ticks: any record policy but none.
 """
 import argparse
 import json
@@ -40,7 +40,8 @@ LOOK_BACK_S = 0.5      # the tip's letting go is looked for this far before the 
 @dataclass
 class Recovery:
     t: float              # s: the recovery began
-    cause: str            # link took the load | tip came off | sensed only | slip | link rest | other
+    # link took the load | tip came off | sensed only | slip | link rest | other
+    cause: str
     finger: str           # '' where the cause names none
     phase: str            # the phase kind when it happened (dmpl_tools.phases.kind)
     action: str           # the regrasp chart's action then
