@@ -163,18 +163,20 @@ def tally(recs):
 
 
 def _run_settings(log):
-    """(link contact threshold, hand or None) of the run whose log this is."""
+    """(link contact threshold, hand or None) of the run whose log this is; a config that cannot
+    be read leaves the defaults and no contact angles, and says so."""
     config = Path(log).parent / "config.yaml"
     link_n = experiment.METRICS_DEFAULTS["link_contact_n"]
     if not config.exists():
         return link_n, None
-    metrics = (experiment.load_yaml(config) or {}).get("metrics", {}) or {}
     try:
-        hand = load_hand(config)
-    except UrdfError as e:
-        print(f"losses: {log}: no contact angles ({e})", file=sys.stderr)
-        hand = None
-    return float(metrics.get("link_contact_n", link_n)), hand
+        metrics = experiment.load_yaml(config).get("metrics", {}) or {}
+        link_n = float(metrics.get("link_contact_n", link_n))
+        return link_n, load_hand(config)
+    except (experiment.ExperimentError, UrdfError, AttributeError, TypeError, ValueError) as e:
+        print(f"losses: {log}: the run's config: {e}; link contact at {link_n} N, no contact "
+              "angles", file=sys.stderr)
+        return link_n, None
 
 
 def _recoveries_of(log):
