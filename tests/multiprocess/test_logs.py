@@ -25,8 +25,8 @@ from dmpl import controller_status_t, hand_sensors_t, sim_control_t, supervisor_
 from dmpl_tools import experiment, faces, metrics
 from dmpl_tools.bus import Buses
 from dmpl_tools.export import export
-from dmpl_tools.logdata import LogData, Series
 from dmpl_tools.hand_geometry import load_hand
+from dmpl_tools.logdata import LogData, Series
 from dmpl_tools.losses import ContactAngles, recoveries, tally
 from dmpl_tools.phases import kind, summarize
 from dmpl_tools.report import make_report
