@@ -29,7 +29,7 @@ from dmpl_tools.hand_geometry import load_hand
 from dmpl_tools.logdata import LogData, Series
 from dmpl_tools.losses import ContactAngles, recoveries, tally
 from dmpl_tools.phases import kind, summarize
-from dmpl_tools.report import make_report
+from dmpl_tools.report import make_report, recovery_lines
 from dmpl_tools.run import run_experiment, strict_json, write_summary
 from dmpl_tools.sweep import load_cases, run_sweep
 
@@ -367,6 +367,19 @@ class LossesTest(unittest.TestCase):
         # began (1.98 s): here an angle that names its row.
         first = recoveries(self.run_of(), 0.05, angle_at=lambda f, i: float(i))[0]
         self.assertEqual((first.contact_angle_deg, first.angle_at_phase_start_deg), (199.0, 198.0))
+
+    def test_the_report_says_why_each_recovery_began(self):
+        lines = recovery_lines(self.run_of(), link_n=0.05)
+        rows = [line for line in lines if line.startswith("| ") and line[2].isdigit()]
+        self.assertEqual(len(rows), 4)
+        self.assertEqual(rows[0], "| 2.10 | R | link took the load | A9 F grip + A1 TFMR rotate | "
+                                  "0.02 | 3.00 | yes |")
+        self.assertTrue(rows[3].endswith("| no |"))
+        self.assertIn("link took the load during grip + four turn: 1", lines[-2])
+        run = self.run_of()
+        run.supervisor = Series(run.supervisor.t[:150], {k: v[:150] for k, v in
+                                                         run.supervisor.cols.items()})
+        self.assertEqual(recovery_lines(run, link_n=0.05), [])  # none before 1.5 s: no section
 
     def test_the_contact_angle_is_measured_round_the_tip_from_its_front(self):
         hand = load_hand()

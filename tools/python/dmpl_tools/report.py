@@ -25,7 +25,7 @@ import numpy as np
 
 from dmpl import controller_event_t
 
-from . import channels, experiment, faces, metrics, surface
+from . import channels, experiment, faces, losses, metrics, surface
 from .logdata import (Columns, LogData, LogError, angle_between, extract, cumulative_rotation, quat_conj,
                       quat_mul, rotation_vector, task_axis)
 
@@ -358,6 +358,32 @@ def _read(log_path, obj):
         return data, faces.faces_over_time(data, obj)
 
 
+MAX_RECOVERY_ROWS = 30
+
+
+def recovery_lines(data, link_n):
+    """The report's lines on why each recovery began (losses.py; the contact angles are
+    `tools/dmpl losses`'s): a table, at most MAX_RECOVERY_ROWS rows, and the count by cause."""
+    if not len(data.supervisor.t) or not len(data.tactile.t):
+        return []
+    recs = losses.recoveries(data, link_n)
+    if not recs:
+        return []
+    lines = ["## Why each recovery began", "",
+             "| t (s) | finger | cause (truth) | during | after (s) | link force (N) | recovered |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for r in recs[:MAX_RECOVERY_ROWS]:
+        link = "" if np.isnan(r.link_force_n) else f"{r.link_force_n:.2f}"
+        lines.append(f"| {r.t:.2f} | {r.finger or '-'} | {r.cause} | {r.action} | "
+                     f"{r.into_phase_s:.2f} | {link} | {'yes' if r.recovered else 'no'} |")
+    if len(recs) > MAX_RECOVERY_ROWS:
+        lines.append(f"| ... | {len(recs) - MAX_RECOVERY_ROWS} more | | | | | |")
+    counts = losses.tally(recs)
+    lines += ["", "By cause: " + "; ".join(f"{cause} during {phase}: {n}"
+                                          for (cause, phase), n in counts.most_common()), ""]
+    return lines
+
+
 def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=None):
     """Writes the figures, report.md and a 3-D replay (replay_path, default OUT/replay.html;
     False: none); returns the report's path."""
@@ -416,6 +442,7 @@ def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=N
     elif replay:
         lines += ["", f"3-D replay: not written ({replay})"]
     lines.append("")
+    lines += recovery_lines(data, float(config["metrics"]["link_contact_n"]))
     for file, caption in figures:
         lines += [f"## {caption}", "", f"![{caption}]({file})", ""]
     report = out / "report.md"
