@@ -157,6 +157,12 @@ def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], angle
     return out
 
 
+def missing_channels(data):
+    """What recoveries() reads that the run's data lacks (names; empty: nothing)."""
+    return [what for what, rows in (("the supervisor's status", data.supervisor.t),
+                                    ("the simulator's truth", data.tactile.t)) if not len(rows)]
+
+
 def tally(recs):
     """Counter of (cause, phase kind) over recoveries."""
     return Counter((r.cause, r.phase) for r in recs)
@@ -187,9 +193,7 @@ def _recoveries_of(log):
     with tempfile.TemporaryDirectory(prefix="dmpl-losses-") as tmp:
         extract(log, tmp)
         data = LogData(Columns(tmp))
-        missing = [what for what, rows in (("the supervisor's status", data.supervisor.t),
-                                           ("the simulator's truth", data.tactile.t))
-                   if not len(rows)]
+        missing = missing_channels(data)
         if missing:
             raise LogError(" and ".join(missing) + " missing (recorded with --record none, or "
                            "not a dmpl run)")

@@ -364,7 +364,7 @@ MAX_RECOVERY_ROWS = 30
 def recovery_lines(data, link_n):
     """The report's lines on why each recovery began (losses.py; the contact angles are
     `tools/dmpl losses`'s): a table, at most MAX_RECOVERY_ROWS rows, and the count by cause."""
-    if not len(data.supervisor.t) or not len(data.tactile.t):
+    if losses.missing_channels(data):
         return []
     recs = losses.recoveries(data, link_n)
     if not recs:
