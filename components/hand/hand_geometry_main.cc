@@ -2,6 +2,7 @@
 // simulator and the kinematics read) as JSON on stdout: links with their shapes, joints with
 // their origins and axes. The viewer draws from it, so the picture and the physics share one
 // parser. Exit 2 with one message on a bad config or URDF.
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -57,8 +58,13 @@ void Print(const dmpl::HandModel& hand) {
                 joint.type == dmpl::JointInfo::Type::kRevolute ? "revolute" : "fixed",
                 dmpl::JsonString(hand.links()[joint.parent_link].name).c_str(),
                 dmpl::JsonString(hand.links()[joint.child_link].name).c_str());
-    std::printf("\"axis\": [%.17g, %.17g, %.17g], \"origin\": ", joint.axis.x(), joint.axis.y(),
+    std::printf("\"axis\": [%.17g, %.17g, %.17g], ", joint.axis.x(), joint.axis.y(),
                 joint.axis.z());
+    if (joint.type == dmpl::JointInfo::Type::kRevolute && std::isfinite(joint.lower) &&
+        std::isfinite(joint.upper)) {
+      std::printf("\"lower\": %.17g, \"upper\": %.17g, ", joint.lower, joint.upper);
+    }
+    std::printf("\"origin\": ");
     PrintPose(joint.origin);
     std::printf("}");
   }

@@ -45,6 +45,7 @@ class Joint:
     child: str
     origin: np.ndarray
     axis: np.ndarray
+    limits: tuple = None      # (lower, upper) rad of a revolute joint with finite limits
 
 
 @dataclass
@@ -82,6 +83,7 @@ def load_hand(config_path=None):
         hand.shapes[link["name"]] = [Shape(s["kind"], tuple(s["size"]), pose(s["origin"]))
                                      for s in link["shapes"]]
     for j in doc["joints"]:  # parents before children (the model's order)
+        limits = (float(j["lower"]), float(j["upper"])) if "lower" in j else None
         hand.joints.append(Joint(j["name"], j["type"], j["parent"], j["child"], pose(j["origin"]),
-                                 np.array(j["axis"], dtype=float)))
+                                 np.array(j["axis"], dtype=float), limits))
     return hand

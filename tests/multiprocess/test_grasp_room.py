@@ -1,0 +1,127 @@
+"""tools/dmpl grasp-room (issues 28 and 29): the objects' signed distances, the hand's room for a
+sphere and a cube at a home grasp built from the task's approach points, the command on a
+recorded run, and its refusals."""
+import json
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+import mp
+from dmpl_tools import grasp_room as gr
+from dmpl_tools.hand_geometry import load_hand
+from dmpl_tools.run import run_experiment
+
+CENTRE = np.array([0.07, 0.0, 0.015])  # hand_and_sphere.yaml's object
+# configs/tasks/fig10_gait.yaml's approach points: each finger's home direction from the centre.
+APPROACH = {"T": [0.07, 0.0, -0.018], "F": [0.07, 0.033, 0.015], "M": [0.07, 0.0, 0.048],
+            "R": [0.07, -0.033, 0.015]}
+OPEN = {"T": [0.9313, 1.1132, 0.918, 1.4364], "F": [0.1421, 0.6607, 1.3099, 1.0883],
+        "M": [0.0, 0.2216, 0.9624, 0.9505], "R": [-0.1421, 0.6607, 1.3099, 1.0883]}
+TIP = 0.012
+
+
+def home_grasp(hand, half_width):
+    """Joints with each tip touching an object of this half width from its approach side."""
+    joints = {}
+    for f, point in APPROACH.items():
+        chain = gr.FingerChain(hand, f)
+        d = np.array(point) - CENTRE
+        q, residual = chain.place(np.array(OPEN[f]),
+                                  CENTRE + (half_width + TIP) * d / np.linalg.norm(d))
+        assert residual < 1e-3, (f, residual)
+        joints.update(zip(chain.joints, q))
+    return joints
+
+
+class SignedDistanceTest(unittest.TestCase):
+    def test_each_shape_measures_a_point_outside_and_inside(self):
+        cases = [
+            ({"shape": "sphere", "radius": 0.02}, [0.03, 0, 0], 0.01),
+            ({"shape": "box", "size": [0.04, 0.06, 0.08]}, [0.03, 0, 0], 0.01),
+            ({"shape": "box", "size": [0.04, 0.06, 0.08]}, [0.0, 0.0, 0.0], -0.02),
+            ({"shape": "box", "size": [0.04, 0.06, 0.08]}, [0.023, 0.034, 0], 0.005),  # an edge
+            ({"shape": "cylinder", "radius": 0.02, "length": 0.08}, [0, 0.025, 0], 0.005),
+            ({"shape": "cylinder", "radius": 0.02, "length": 0.08}, [0, 0, 0.05], 0.01),
+            ({"shape": "capsule", "radius": 0.02, "length": 0.04}, [0, 0, 0.05], 0.01),
+            # A hexagon of corner radius 2.5 cm: its sides 2.165 cm from the axis.
+            ({"shape": "prism", "sides": 6, "radius": 0.025, "length": 0.06},
+             [0.03 * np.cos(np.pi / 6), 0.03 * np.sin(np.pi / 6), 0],
+             0.03 - 0.025 * np.cos(np.pi / 6)),
+            # The scaled distance times the least radius (a bound off the surface).
+            ({"shape": "ellipsoid", "radii": [0.035, 0.025, 0.02]}, [0.045, 0, 0],
+             0.01 / 0.035 * 0.02),
+        ]
+        for obj, point, expected in cases:
+            got = gr.object_sdf(obj)(np.array([point], dtype=float))[0]
+            self.assertAlmostEqual(got, expected, places=6, msg=(obj, point))
+
+    def test_the_surface_along_a_direction_and_its_normal(self):
+        sdf = gr.object_sdf({"shape": "box", "size": [0.05, 0.05, 0.05]})
+        distance, normal = gr.surface_along(sdf, np.array([1.0, 0.5, 0.0]))
+        self.assertAlmostEqual(distance, 0.025 * np.hypot(1.0, 0.5), places=6)
+        np.testing.assert_allclose(normal, [1, 0, 0], atol=1e-6)
+
+    def test_a_shape_without_a_distance_is_one_error(self):
+        with self.assertRaisesRegex(gr.RoomError, "object.shape 'mesh' is not supported"):
+            gr.object_sdf({"shape": "mesh"})
+
+
+class RoomTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.hand = load_hand()
+
+    def room(self, obj, half_width, deviation):
+        return gr.grasp_room(self.hand, home_grasp(self.hand, half_width), CENTRE, obj, TIP,
+                             deviation=deviation, orientations=40, seed=3)
+
+    def test_a_sphere_is_held_in_every_orientation_at_the_homes(self):
+        room = self.room({"shape": "sphere", "radius": 0.025}, 0.025, 0.0)
+        self.assertEqual(room.held, 40)
+        self.assertEqual(room.palm_in_object, 0)
+
+    def test_a_cube_needs_the_fingers_away_from_their_homes(self):
+        # At the homes the fore and ring fingers touch a face with the sides of their tips: their
+        # links stand 2-3 mm off a face at right angles, and most orientations tip one onto it.
+        cube = {"shape": "box", "size": [0.05, 0.05, 0.05]}
+        at_home = self.room(cube, 0.025, 0.0)
+        self.assertLess(at_home.held, 40 * 0.4)
+        self.assertLess(min(at_home.by_finger["F"], at_home.by_finger["R"]),
+                        min(at_home.by_finger["T"], at_home.by_finger["M"]))
+        # Within 0.6 rad of the homes a placement with every link clear exists almost always.
+        self.assertGreaterEqual(self.room(cube, 0.025, 0.6).held, 40 * 0.9)
+
+
+class CommandTest(unittest.TestCase):
+    def test_on_a_recorded_run_and_its_refusals(self):
+        summary, out = run_experiment(
+            mp.ROOT + "/configs/experiments/reorient_random.yaml",
+            tempfile.mkdtemp(prefix="dmpl_room_"), seed=1, echo=False, record="analysis",
+            sets=["task.random_goals=1"])
+        self.assertGreater(summary["task_began_at_s"], 0)
+        log = out / "run.lcmlog"
+        report = Path(tempfile.mkdtemp()) / "room.json"
+        done = subprocess.run([sys.executable, "-m", "dmpl_tools.grasp_room", str(log),
+                               "--orientations", "10", "--json", str(report)],
+                              capture_output=True, text=True, timeout=300)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("10 of 10 orientations (100 %)", done.stdout)
+        room = json.loads(report.read_text())
+        self.assertEqual(room["held"], 10)
+        self.assertEqual(sorted(room["by_finger"]), ["F", "M", "R", "T"])
+        for argv, message in [([str(out / "missing.lcmlog")], "no such log"),
+                              ([str(out / "summary.json")], "no simulator truth"),
+                              ([str(log), "--deviation", "2"], "--deviation must lie")]:
+            done = subprocess.run([sys.executable, "-m", "dmpl_tools.grasp_room"] + argv,
+                                  capture_output=True, text=True, timeout=300)
+            self.assertEqual(done.returncode, 2, argv)
+            self.assertIn(message, done.stderr)
+            self.assertEqual(len(done.stderr.strip().splitlines()[-1:]), 1)
+
+
+if __name__ == "__main__":
+    sys.exit(unittest.main())
