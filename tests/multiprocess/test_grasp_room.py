@@ -119,8 +119,10 @@ class CommandTest(unittest.TestCase):
             done = subprocess.run([sys.executable, "-m", "dmpl_tools.grasp_room"] + argv,
                                   capture_output=True, text=True, timeout=300)
             self.assertEqual(done.returncode, 2, argv)
-            self.assertIn(message, done.stderr)
-            self.assertEqual(len(done.stderr.strip().splitlines()[-1:]), 1)
+            lines = done.stderr.strip().splitlines()
+            self.assertIn(message, lines[-1])  # one message, no traceback
+            self.assertNotIn("Traceback", done.stderr)
+            self.assertEqual(done.stdout, "")
 
 
 if __name__ == "__main__":
