@@ -47,7 +47,8 @@ def object_sdf(obj):
         return lambda p: np.linalg.norm(p, axis=1) - r
     if shape == "ellipsoid":
         radii = np.asarray(obj.get("radii", [r, r, r]), dtype=float)
-        # The scaled distance times the least radius: exact on the surface, a bound inside.
+        # The scaled distance times the least radius: its sign is exact and its size at most
+        # the true distance's (a margin asked of it is kept, or more).
         return lambda p: (np.linalg.norm(p / radii, axis=1) - 1.0) * radii.min()
     if shape == "box":
         h = np.asarray(obj.get("size", [0.05, 0.05, 0.05]), dtype=float) / 2.0
@@ -327,8 +328,8 @@ def main(argv=None):
         return 2
     n = room.orientations
     print(f"{room.held} of {n} orientations ({100.0 * room.held / n:.0f} %) leave every finger a "
-          f"tip placement within {room.deviation_rad:.2f} rad of its home with its links "
-          f"{1000 * room.margin_m:.1f} mm off the object")
+          f"tip placement within {room.deviation_rad:.2f} rad of its home with its links at "
+          f"least {1000 * room.margin_m:.1f} mm off the object")
     print("per finger: " + ", ".join(f"{f} {k}" for f, k in room.by_finger.items()) +
           f"; the palm in the object: {room.palm_in_object}")
     if a.json:
