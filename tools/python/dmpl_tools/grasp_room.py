@@ -4,11 +4,14 @@ For orientations drawn uniformly over SO(3) (seeded), the object held where a ru
 its tasks began: can every finger put its tip on the object's surface within `deviation` rad
 (seen from the object's centre) of where it stood then, with each of its links and the palm at
 least `margin` off the object? This asks of the hand's geometry alone what the gait asks of it
-(reorient_random.yaml keeps every finger within 0.35 rad of its home), so it bounds what any
-placement can do. The hand is the project's hand model (hand_geometry: forward kinematics,
-the links' shapes, the joints' limits), each tip placed by damped least squares from the
-finger's posture then. The object's shape is the run's config: the simulator's truth, for an
-analysis of the hand, never something the controller reads.
+(reorient_random.yaml keeps every finger within 0.35 rad of its home): the room any placement
+has. The hand is the project's hand model (hand_geometry: forward kinematics, the links' shapes,
+the joints' limits), each tip placed by damped least squares from the finger's posture then (one
+posture of the finger's redundant joint, the IK's nearest: another might clear where this one
+does not), its links' surfaces sampled every 1.5 mm (a touch shallower than that between samples
+can go unseen). The object's
+shape is the run's config: the simulator's truth, for an analysis of the hand, never something
+the controller reads.
 
     tools/dmpl grasp-room RUN/run.lcmlog [--deviation 0.35] [--margin-mm 0] [--json FILE]
 """
