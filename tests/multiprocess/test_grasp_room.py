@@ -83,6 +83,7 @@ class RoomTest(unittest.TestCase):
         room = self.room({"shape": "sphere", "radius": 0.025}, 0.025, 0.0)
         self.assertEqual(room.held, 40)
         self.assertEqual(room.palm_in_object, 0)
+        self.assertEqual(room.at_home_blocked_by, {})
 
     def test_a_cube_needs_the_fingers_away_from_their_homes(self):
         # At the homes the fore and ring fingers touch a face with the sides of their tips: their
@@ -92,6 +93,10 @@ class RoomTest(unittest.TestCase):
         self.assertLess(at_home.held, 40 * 0.4)
         self.assertLess(min(at_home.by_finger["F"], at_home.by_finger["R"]),
                         min(at_home.by_finger["T"], at_home.by_finger["M"]))
+        # What is in the way: the fore and ring fingers' distal links (link3) most often.
+        blocked = at_home.at_home_blocked_by
+        self.assertEqual(max(blocked, key=blocked.get)[1:], "_link3")
+        self.assertIn(max(blocked, key=blocked.get)[0], "FR")
         # Within 0.6 rad of the homes a placement with every link clear exists almost always.
         self.assertGreaterEqual(self.room(cube, 0.025, 0.6).held, 40 * 0.9)
 

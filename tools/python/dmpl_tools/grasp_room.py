@@ -179,10 +179,9 @@ class FingerChain:
         return q, float(np.linalg.norm(target - self.tip(q)))
 
     def link_points(self, q):
-        """Every link's surface points (palm frame) at joints `q`."""
+        """{link: its surface points (palm frame)} at joints `q`."""
         poses = self.poses(q)
-        return np.vstack([pts @ poses[link][:3, :3].T + poses[link][:3, 3]
-                          for link, pts in self.links])
+        return {link: pts @ poses[link][:3, :3].T + poses[link][:3, 3] for link, pts in self.links}
 
 
 # --- The question. --------------------------------------------------------------------------
@@ -193,6 +192,8 @@ class Room:
     held: int = 0                                  # every finger found a placement
     palm_in_object: int = 0
     by_finger: dict = field(default_factory=dict)  # finger -> orientations it found one in
+    # link -> orientations in which it, at its finger's home direction, comes within the margin
+    at_home_blocked_by: dict = field(default_factory=dict)
     deviation_rad: float = 0.0
     margin_m: float = 0.0
 
@@ -247,7 +248,7 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
         every = True
         for f in fingers:
             found = False
-            for d in candidate_directions(home[f], deviation):
+            for k, d in enumerate(candidate_directions(home[f], deviation)):
                 along = rot.T @ d
                 distance, normal = surface_along(sdf, along)
                 target = centre + rot @ (distance * along / np.linalg.norm(along) +
@@ -255,7 +256,12 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
                 q, residual = chains[f].place(home_q[f], target)
                 if residual > 1e-3:
                     continue
-                if (sdf(in_object(chains[f].link_points(q))) < margin).any():
+                blocking = [link for link, pts in chains[f].link_points(q).items()
+                            if (sdf(in_object(pts)) < margin).any()]
+                if k == 0:  # the home direction
+                    for link in blocking:
+                        room.at_home_blocked_by[link] = room.at_home_blocked_by.get(link, 0) + 1
+                if blocking:
                     continue
                 found = True
                 break
@@ -335,6 +341,9 @@ def main(argv=None):
           f"least {1000 * room.margin_m:.1f} mm off the object")
     print("per finger: " + ", ".join(f"{f} {k}" for f, k in room.by_finger.items()) +
           f"; the palm in the object: {room.palm_in_object}")
+    blocked = sorted(room.at_home_blocked_by.items(), key=lambda item: -item[1])
+    print("links in the way at the homes' directions (orientations): " +
+          (", ".join(f"{link} {k}" for link, k in blocked) or "none"))
     if a.json:
         try:
             Path(a.json).write_text(json.dumps(asdict(room), indent=1) + "\n")
