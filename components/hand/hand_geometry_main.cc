@@ -1,7 +1,8 @@
 // dmpl_hand_geometry --config FILE: the hand model of a config (its `hand` section, the URDF the
 // simulator and the kinematics read) as JSON on stdout: links with their shapes, joints with
-// their origins and axes. The viewer draws from it, so the picture and the physics share one
-// parser. Exit 2 with one message on a bad config or URDF.
+// their origins, axes and (revolute, finite) limits. The viewer draws from it and grasp-room
+// places fingers with it, so the picture, the analysis and the physics share one parser. Exit 2
+// with one message on a bad config or URDF.
 #include <cmath>
 #include <cstdio>
 #include <iostream>
