@@ -27,6 +27,7 @@ import numpy as np
 from . import channels, experiment
 from .hand_geometry import UrdfError, axis_angle, load_hand
 from .logdata import Columns, LogData, LogError, extract
+from .view import quat_matrix
 
 SHAPES = ("sphere", "ellipsoid", "box", "cylinder", "capsule", "prism")
 RING_DIRECTIONS = 8  # candidate directions on each of the two rings about a finger's home
@@ -199,11 +200,8 @@ class Room:
 
 
 def random_rotation(rng):
-    q = rng.normal(size=4)
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    """A rotation matrix uniform over SO(3): a normalized Gaussian quaternion."""
+    return quat_matrix(rng.normal(size=4))[:3, :3]
 
 
 def candidate_directions(home, deviation):
