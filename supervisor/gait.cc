@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include "supervisor/edge_hop.h"
 #include "supervisor/explorer_choice.h"
 
 namespace dmpl {
@@ -56,6 +57,7 @@ void Gait::Resume() {
 void Gait::Abort() {
   regrasp_.Process(RegraspEvent::Abort);
   explorer_ = -1;
+  explore_.hop = Hop::kNone;
   lifted_ = placed_back_ = -1;  // the recovery grips with all
   deferred_turn_ = nullptr;
 }
@@ -120,8 +122,19 @@ void Gait::Explore(const std::string& finger) {
                            : explore_.point;
   board_->NewTask(regrasp_.last_action());
   board_->AllGrip();
-  board_->SetFinger(f, Role::kExplore, Primitive::kHybrid, &explore_.target,
-                    params_.explore_force_n);
+  explore_.hop_since = board_->now;
+  if (HopsOverEdge(f)) {
+    // First eased to the explorer's force where it stands, so that the others take the load
+    // as they would from any explorer, before it lifts.
+    explore_.hop = Hop::kEase;
+    const Eigen::Vector3d here = board_->view.fingers[f].tip;
+    board_->SetFinger(f, Role::kExplore, Primitive::kHybrid, &here, params_.explore_force_n);
+    chosen += std::string(chosen.empty() ? "" : ", ") + "stepping over an edge on its way";
+  } else {
+    explore_.hop = Hop::kNone;
+    board_->SetFinger(f, Role::kExplore, Primitive::kHybrid, &explore_.target,
+                      params_.explore_force_n);
+  }
   goal_->Send();
   if (!board_->view.gravity.isZero()) {
     std::ostringstream note;
@@ -449,8 +462,9 @@ void Gait::Tick() {
 }
 
 void Gait::TickExplore(double in_phase) {
-  KeepExplorerClear();
-  const bool there = explorer_ >= 0 && board_->reached[explorer_] &&
+  const bool hopping = TickHop();
+  if (!hopping) KeepExplorerClear();
+  const bool there = !hopping && explorer_ >= 0 && board_->reached[explorer_] &&
                      board_->view.fingers[explorer_].in_contact;
   // Continuous: the three turn the object while the explorer slides; both must be done.
   const bool turned = !regrasp_.overlapping() || StepDone(in_phase);
@@ -459,8 +473,66 @@ void Gait::TickExplore(double in_phase) {
       board_->Note("explorer " + board_->fingers[explorer_] + " did not reach its point in time");
     }
     if (!turned) board_->Note("the step did not finish while the explorer slid");
+    explore_.hop = Hop::kNone;  // in time or not, it grips from where it is
     regrasp_.Process(RegraspEvent::ExploreReady);
   }
+}
+
+bool Gait::HopsOverEdge(int f) const {
+  const EdgeHopParams& hop = params_.edge_hop;
+  const FingerView& v = board_->view.fingers[f];
+  if (!hop.enabled || board_->edges.empty() || !v.SensesPoint()) return false;
+  std::vector<Edge> edges;
+  for (const Blackboard::FeltEdge& e : board_->edges) edges.push_back(e.edge);
+  const Eigen::Isometry3d to_object = board_->view.object.inverse();
+  return EdgeOnTheWay(to_object * v.contact, to_object * explore_.target, edges, hop.reach_m) >= 0;
+}
+
+Eigen::Vector3d Gait::OverTarget() const {
+  const Eigen::Vector3d centre = board_->view.object.translation();
+  const Eigen::Matrix3d to_palm = board_->view.object.linear();
+  Eigen::Vector3d out = explore_.target - centre;
+  const SurfacePoint felt = board_->surface.Along(to_palm.transpose() * out);
+  if (felt.known) out = to_palm * felt.normal;
+  return explore_.target + params_.edge_hop.lift_m * out.normalized();
+}
+
+bool Gait::TickHop() {
+  if (explorer_ < 0 || explore_.hop == Hop::kNone) return false;
+  const EdgeHopParams& hop = params_.edge_hop;
+  const int f = explorer_;
+  const double since = board_->now - explore_.hop_since;
+  const bool moved = board_->reached[f] || since > hop.move_timeout_s;
+  switch (explore_.hop) {
+    case Hop::kNone:
+      return false;
+    case Hop::kEase:
+      if (since < hop.ease_s) return true;
+      {
+        const Eigen::Vector3d lifted = board_->LiftedOff(f, hop.lift_m);
+        board_->SetFinger(f, Role::kFree, Primitive::kPosition, &lifted);
+      }
+      explore_.hop = Hop::kLift;
+      break;
+    case Hop::kLift:
+      if (!moved) return true;
+      {
+        const Eigen::Vector3d over = OverTarget();
+        board_->SetFinger(f, Role::kFree, Primitive::kPosition, &over);
+      }
+      explore_.hop = Hop::kOver;
+      break;
+    case Hop::kOver:
+      if (!moved) return true;
+      board_->SetFinger(f, Role::kExplore, Primitive::kHybrid, &explore_.target,
+                        params_.explore_force_n);
+      explore_.hop = Hop::kNone;
+      break;
+  }
+  board_->reached[f] = false;
+  explore_.hop_since = board_->now;
+  board_->out.changed = true;
+  return explore_.hop != Hop::kNone;
 }
 
 void Gait::TickRotate(double in_phase) {

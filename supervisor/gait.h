@@ -109,8 +109,18 @@ class Gait : private RegraspActions {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }
 
+  // params.edge_hop: whether the explorer's way from its contact to its target crosses a felt
+  // edge (edge_hop.h); if so it eases, is lifted and moved over its point first.
+  bool HopsOverEdge(int f) const;
+  // One tick of that hop: true while the explorer is not yet brought in to its point.
+  bool TickHop();
+  // Where the hop takes the explorer before it is brought in: lift_m over its target, along the
+  // felt normal there (or the line from the centre where the surface is not known).
+  Eigen::Vector3d OverTarget() const;
+
   // The explore under way: the explorer's point before KeepClear, and how to keep it clear
   // while it slides (the finger it slides toward keeps moving, and so may the object).
+  enum class Hop { kNone, kEase, kLift, kOver };
   struct ExploreState {
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
     Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -118,6 +128,8 @@ class Gait : private RegraspActions {
     bool spaced = false;
     bool neighbour_rides = false;
     double sign = 1.0;
+    Hop hop = Hop::kNone;  // the stage of its step over an edge (params.edge_hop)
+    double hop_since = 0.0;
   };
 
   Blackboard* board_;

@@ -127,6 +127,29 @@ struct StruckFingerParams {
   }
 };
 
+// task.edge_hop: an explorer whose way to its point crosses an edge the fingertips have felt
+// (edge_hop.h) steps over it instead of sliding round it: it eases to the explorer's force where
+// it stands (ease_s), is lifted lift_m off along the line from the centre, moved to lift_m over
+// its point (along the felt normal there), and brought in to it as any explorer; each move ends
+// when it is reached or after move_timeout_s. A felt edge is taken to run reach_m on from where
+// it was felt. Off: it slides there.
+struct EdgeHopParams {
+  bool enabled = false;
+  double reach_m = 0.03;
+  double ease_s = 0.3;
+  double lift_m = 0.01;
+  double move_timeout_s = 0.6;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(enabled));
+    a->Visit(DMPL_NVP(reach_m), AtLeast(0));
+    a->Visit(DMPL_NVP(ease_s), InRange(0, 2));
+    a->Visit(DMPL_NVP(lift_m), InRange(0, 0.05));
+    a->Visit(DMPL_NVP(move_timeout_s), AboveUpTo(0, 3));
+  }
+};
+
 // Section `task`: what to do. The structure is in the task file; these are its numbers, so that
 // `--set task.axis=y` or `--set task.angle=3.14` change an experiment without editing files.
 struct TaskParams {
@@ -184,6 +207,7 @@ struct TaskParams {
   SupportParams support;
   ContactChoiceParams contact_choice;
   StruckFingerParams struck_fingers;
+  EdgeHopParams edge_hop;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -212,6 +236,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
     a->Visit(DMPL_NVP(struck_fingers));
+    a->Visit(DMPL_NVP(edge_hop));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations

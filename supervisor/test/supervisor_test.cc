@@ -539,6 +539,81 @@ TEST(SupervisorTest, ExplorersPointKeepsClearOfTheFingerItSlidesToward) {
   EXPECT_NEAR((target - c).norm(), radius, 1e-9);  // still on its circle about the object
 }
 
+// About +x from -y toward +z by `angle`: R's side of the object.
+Eigen::Vector3d RoundR(double angle) {
+  return Eigen::AngleAxisd(-angle, Eigen::Vector3d::UnitX()) * Eigen::Vector3d(0, -1, 0);
+}
+
+// R stands on a face of a prism (faces 0.6 rad apart, their edge along x) and its explore goes
+// past the edge it has rolled over: with task.edge_hop it eases where it stands, is lifted,
+// moved over its point and brought in to it as any explorer; without, it slides there.
+void ExpectStepOverAFeltEdge(bool hop) {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.angle = 1.0;
+  tp.edge_hop.enabled = hop;
+  Driver d("fig10_gait", tp);
+  PlaceTips(&d, 0.037);
+  const Eigen::Vector3d c = d.view.object.translation();
+  const double apothem = 0.025, tip_radius = 0.012;
+  const Eigen::Vector3d edge = c + RoundR(0.0) * apothem / std::cos(0.3);
+  FingerView& r = d.view.fingers[3];
+  r.force = 1.0;
+  r.in_contact = true;
+  // R's tip rolls over the edge (its contact on it, the normal turning from one face's to the
+  // next's), then holds on the first face when the gait begins.
+  for (int i = 0; i <= 6; ++i) {
+    r.contact = edge;
+    r.tip = edge + tip_radius * RoundR(-0.3 + 0.1 * i);
+    d.Tick();
+  }
+  r.contact = c + RoundR(-0.15) * apothem / std::cos(0.15);
+  r.tip = r.contact + tip_radius * RoundR(-0.3);
+  d.Grasp();
+  const FingerTask* task = &d.Tick().task.fingers[3];
+  ASSERT_EQ(d.sup.regrasp().last_action(), "A4 R explore");
+  EXPECT_EQ(task->role, Role::kExplore);
+  EXPECT_EQ(task->primitive, Primitive::kHybrid);
+  if (!hop) {
+    EXPECT_GT((task->target - r.tip).norm(), 0.01);  // straight for its point, past the edge
+    return;
+  }
+  EXPECT_LT((task->target - r.tip).norm(), 1e-9);  // eased where it stands
+  EXPECT_NE(d.sup.note().find("stepping over an edge on its way"), std::string::npos) << d.sup.note();
+  for (int i = 0; i < 100 && d.sup.roles()[3] != Role::kFree; ++i) task = &d.Tick().task.fingers[3];
+  ASSERT_EQ(d.sup.roles()[3], Role::kFree);  // lifted 1 cm off along the line from the centre
+  EXPECT_EQ(task->primitive, Primitive::kPosition);
+  const Eigen::Vector3d out = (r.tip - c).normalized();
+  EXPECT_LT((task->target - (r.tip + 0.01 * out)).norm(), 1e-9);
+  const Eigen::Vector3d lifted = task->target;
+  d.Event(EventType::kTargetReached, 3);
+  task = &d.Tick().task.fingers[3];
+  EXPECT_EQ(d.sup.roles()[3], Role::kFree);  // moved over its point, 1 cm out
+  const Eigen::Vector3d over = task->target;
+  EXPECT_GT((over - lifted).norm(), 0.01);
+  d.Event(EventType::kTargetReached, 3);
+  task = &d.Tick().task.fingers[3];
+  EXPECT_EQ(task->role, Role::kExplore);  // brought in as an explorer
+  EXPECT_EQ(task->primitive, Primitive::kHybrid);
+  EXPECT_NEAR(task->force_n, 0.1, 1e-12);
+  EXPECT_NEAR((over - task->target).norm(), 0.01, 1e-9);
+  EXPECT_NEAR((over - c).norm(), (task->target - c).norm() + 0.01, 1e-3);  // over it, not aside
+  // Past the edge: its point lies on the far side of the plane through the centre and the edge.
+  EXPECT_GT((task->target - c).dot(Eigen::Vector3d::UnitZ()), 0.0);
+  EXPECT_LT((r.tip - c).dot(Eigen::Vector3d::UnitZ()), 0.0);
+  d.Event(EventType::kTargetReached, 3);
+  d.Tick();
+  EXPECT_EQ(d.sup.regrasp().last_action(), "A3 R grip");
+}
+
+TEST(SupervisorTest, AnExplorerWhoseWayCrossesAFeltEdgeStepsOverIt) {
+  ExpectStepOverAFeltEdge(true);
+}
+
+TEST(SupervisorTest, AnExplorerSlidesOverAFeltEdgeUnlessAskedToStep) {
+  ExpectStepOverAFeltEdge(false);
+}
+
 TEST(SupervisorTest, RecoveryPlacesAFingerThatDoesNotTouchAgain) {
   Driver d("fig8_rotate");
   PlaceTips(&d, 0.037);
