@@ -1,6 +1,6 @@
 """tools/dmpl grasp-room (issues 28 and 29): the objects' signed distances, the hand's room for a
-sphere and a cube at a home grasp built from the task's approach points, the command on a
-recorded run, and its refusals."""
+sphere and a cube at a home grasp built from the task's approach points (in random orientations
+and along a turn), the command on a recorded run, and its refusals."""
 import json
 import subprocess
 import sys
@@ -101,6 +101,48 @@ class RoomTest(unittest.TestCase):
         self.assertGreaterEqual(self.room(cube, 0.025, 0.6).held, 40 * 0.9)
 
 
+    def test_along_a_turn_about_the_palms_normal_the_cube_leaves_the_side_fingers_no_room(self):
+        # Turned about z (the thumb's and middle finger's line), the cube's faces under the fore
+        # and ring fingers tilt toward their links: with 2 mm to spare they find no placement
+        # within the gait's 0.35 rad from 20 to 70 deg of every quarter turn, and at its start
+        # and end they do; the thumb and the middle finger, on the axis, always do. A sphere
+        # leaves every finger room all along.
+        angles, rotations = gr.turn_rotations(np.eye(3), np.array([0, 0, 1.0]), 2 * np.pi, 37)
+        self.assertEqual(len(angles), 37)
+        self.assertAlmostEqual(angles[-1], 2 * np.pi)
+        np.testing.assert_allclose(rotations[-1], np.eye(3), atol=1e-12)
+
+        def room(obj):
+            return gr.grasp_room(self.hand, home_grasp(self.hand, 0.025), CENTRE, obj, TIP,
+                                 deviation=0.35, margin=0.002, rotations=rotations)
+        cube = room({"shape": "box", "size": [0.05, 0.05, 0.05]})
+        self.assertEqual(cube.orientations, 37)
+        self.assertEqual(len(cube.without_room), 37)
+        quarter = 9  # 10 deg apart
+        for k in range(37):
+            deg = 10 * (k % quarter)
+            if 30 <= deg <= 60:
+                self.assertEqual(sorted(cube.without_room[k]), ["F", "R"], k)
+            if deg == 0:
+                self.assertEqual(cube.without_room[k], [], k)
+        self.assertEqual(cube.by_finger["T"], 37)
+        self.assertEqual(cube.by_finger["M"], 37)
+        self.assertEqual(room({"shape": "sphere", "radius": 0.025}).held, 37)
+
+    def test_the_spans_of_a_turn_and_its_axis(self):
+        self.assertEqual(gr.spans([0, 1, 2, 3, 4, 5], [True, True, False, True, False, True]),
+                         [(0, 1), (3, 3), (5, 5)])
+        self.assertEqual(gr.spans([0, 1], [False, False]), [])
+        axis, angle = gr.parse_turn("y")
+        np.testing.assert_allclose(axis, [0, 1, 0])
+        self.assertAlmostEqual(angle, np.pi)
+        self.assertAlmostEqual(gr.parse_turn("x:-1.5")[1], -1.5)
+        for bad, message in [("w", "the axis must be x, y or z"), ("z:fast", "a number"),
+                             ("z:0", "must lie in")]:
+            with self.assertRaisesRegex(ValueError, message):
+                gr.parse_turn(bad)
+
+
 class CommandTest(unittest.TestCase):
     def test_on_a_recorded_run_and_its_refusals(self):
         summary, out = run_experiment(
@@ -118,9 +160,19 @@ class CommandTest(unittest.TestCase):
         room = json.loads(report.read_text())
         self.assertEqual(room["held"], 10)
         self.assertEqual(sorted(room["by_finger"]), ["F", "M", "R", "T"])
+        # Along a turn: the orientations of a turn about z from where the object was.
+        done = subprocess.run([sys.executable, "-m", "dmpl_tools.grasp_room", str(log),
+                               "--turn", "z:1.0", "--orientations", "5", "--json", str(report)],
+                              capture_output=True, text=True, timeout=300)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("every finger has room all along the turn", done.stdout)  # the sphere
+        room = json.loads(report.read_text())
+        np.testing.assert_allclose(room["angles_rad"], [0, 0.25, 0.5, 0.75, 1.0])
+        self.assertEqual(room["without_room"], [[]] * 5)
         for argv, message in [([str(out / "missing.lcmlog")], "no such log"),
                               ([str(out / "summary.json")], "no simulator truth"),
-                              ([str(log), "--deviation", "2"], "--deviation must lie")]:
+                              ([str(log), "--deviation", "2"], "--deviation must lie"),
+                              ([str(log), "--turn", "w"], "the axis must be x, y or z")]:
             done = subprocess.run([sys.executable, "-m", "dmpl_tools.grasp_room"] + argv,
                                   capture_output=True, text=True, timeout=300)
             self.assertEqual(done.returncode, 2, argv)

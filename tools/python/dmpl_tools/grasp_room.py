@@ -13,7 +13,13 @@ can go unseen). The object's
 shape is the run's config: the simulator's truth, for an analysis of the hand, never something
 the controller reads.
 
+With --turn AXIS[:ANGLE] the orientations are not random but those the object passes through
+as it turns ANGLE rad (default pi) about the palm's AXIS (x, y or z) from its orientation then:
+at which angles of a full turn does some finger find no room? A gait that keeps every finger on
+the object has to pass those angles with a finger that cannot be placed.
+
     tools/dmpl grasp-room RUN/run.lcmlog [--deviation 0.35] [--margin-mm 0] [--json FILE]
+    tools/dmpl grasp-room RUN/run.lcmlog --turn y [--orientations 37]
 """
 import argparse
 import json
@@ -197,6 +203,10 @@ class Room:
     at_home_blocked_by: dict = field(default_factory=dict)
     deviation_rad: float = 0.0
     margin_m: float = 0.0
+    # A turn's orientations (--turn): the angle of each, and who found no room there (fingers,
+    # or "palm" where the palm lies in the object).
+    angles_rad: list = field(default_factory=list)
+    without_room: list = field(default_factory=list)
 
 
 def random_rotation(rng):
@@ -219,10 +229,18 @@ def candidate_directions(home, deviation):
     return out
 
 
+def turn_rotations(start, axis, angle, count):
+    """(angles, rotations): `count` orientations evenly from `start` (3x3, object to palm) through
+    a turn of `angle` rad about the palm's `axis`, both ends included."""
+    angles = np.linspace(0.0, angle, count) if count > 1 else np.zeros(1)
+    return list(angles), [axis_angle(axis, a)[:3, :3] @ start for a in angles]
+
+
 def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0,
-               orientations=200, seed=1, palm_points=None):
+               orientations=200, seed=1, palm_points=None, rotations=None):
     """Room for the object of config section `obj` held at `centre` (palm frame), the fingers at
-    `joints` ({name: angle}) when it began: see the module's doc."""
+    `joints` ({name: angle}) when it began: see the module's doc. `rotations` (object to palm,
+    3x3 each; None: `orientations` random ones) are the orientations asked about."""
     sdf = object_sdf(obj)
     fingers = sorted({j.child[:-len("_tip")] for j in hand.joints if j.child.endswith("_tip")})
     chains = {f: FingerChain(hand, f) for f in fingers}
@@ -234,16 +252,19 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
     if palm_points is None:
         palm_points = np.vstack([_shape_points(s) for s in hand.shapes.get(hand.root, [])] or
                                 [np.zeros((0, 3))])
-    rng = np.random.default_rng(seed)
-    room = Room(orientations=orientations, by_finger={f: 0 for f in fingers},
+    if rotations is None:
+        rng = np.random.default_rng(seed)
+        rotations = [random_rotation(rng) for _ in range(orientations)]
+    room = Room(orientations=len(rotations), by_finger={f: 0 for f in fingers},
                 deviation_rad=deviation, margin_m=margin)
-    for _ in range(orientations):
-        rot = random_rotation(rng)
+    for rot in rotations:
         in_object = lambda pts: (pts - centre) @ rot  # noqa: E731  (palm -> object frame)
         if len(palm_points) and (sdf(in_object(palm_points)) < margin).any():
             room.palm_in_object += 1
+            room.without_room.append(["palm"])
             continue
         every = True
+        without = []
         for f in fingers:
             found = False
             for k, d in enumerate(candidate_directions(home[f], deviation)):
@@ -265,13 +286,18 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
                 break
             room.by_finger[f] += found
             every = every and found
+            if not found:
+                without.append(f)
         room.held += every
+        room.without_room.append(without)
     return room
 
 
 # --- From a recorded run. -------------------------------------------------------------------
 
-def from_log(log, deviation, margin, orientations, seed):
+def from_log(log, deviation, margin, orientations, seed, turn=None):
+    """The room of the run's home grasp (grasp_room); `turn` (axis, angle rad): along that turn
+    from the object's orientation then, instead of random orientations."""
     log = Path(log)
     if not log.is_file():
         raise RoomError(f"no such log '{log}'")
@@ -296,13 +322,47 @@ def from_log(log, deviation, margin, orientations, seed):
         i = min(int(np.searchsorted(t, began)), len(t) - 1)
         joints = dict(zip(names, np.asarray(truth["joint_position"][i], dtype=float)))
         centre = np.asarray(truth["object_position"][i], dtype=float)
+        start = quat_matrix(np.asarray(truth["object_orientation"][i], dtype=float))[:3, :3]
+    angles, rotations = [], None
+    if turn is not None:
+        angles, rotations = turn_rotations(start, turn[0], turn[1], orientations)
     tip = next((s.size[0] for link, shapes in hand.shapes.items() if link.endswith("_tip")
                 for s in shapes if s.kind == "sphere"), 0.012)
     try:
-        return grasp_room(hand, joints, centre, config.get("object", {}) or {}, tip,
-                          deviation, margin, orientations, seed)
+        room = grasp_room(hand, joints, centre, config.get("object", {}) or {}, tip,
+                          deviation, margin, orientations, seed, rotations=rotations)
     except (TypeError, ValueError) as e:  # a value of the object section that is not a number
         raise RoomError(f"the run's object section in '{config_path}': {e}") from None
+    room.angles_rad = [float(a) for a in angles]
+    return room
+
+
+def parse_turn(text):
+    """(axis, angle) of --turn's AXIS[:ANGLE] (x, y or z; ANGLE rad, default pi)."""
+    name, _, angle = text.partition(":")
+    axes = {"x": (1.0, 0, 0), "y": (0, 1.0, 0), "z": (0, 0, 1.0)}
+    if name not in axes:
+        raise ValueError(f"--turn: the axis must be x, y or z, not '{name}'")
+    try:
+        value = float(angle) if angle else np.pi
+    except ValueError:
+        raise ValueError(f"--turn: the angle must be a number of radians, not '{angle}'") from None
+    if not 0 < abs(value) <= 4 * np.pi:
+        raise ValueError(f"--turn: the angle must lie in (0, 4 pi] rad, not {value}")
+    return np.array(axes[name]), value
+
+
+def spans(angles, flags):
+    """The runs of consecutive angles where `flags` is true, as (first, last) pairs."""
+    out = []
+    for a, flag in zip(angles, flags):
+        if flag and out and out[-1][2]:
+            out[-1][1] = a
+        elif flag:
+            out.append([a, a, True])
+        elif out:
+            out[-1][2] = False
+    return [(first, last) for first, last, _ in out]
 
 
 def _tasks_began(data, log):
@@ -322,14 +382,24 @@ def main(argv=None):
                    help="rad about each finger's home, seen from the centre (default 0.35)")
     p.add_argument("--margin-mm", type=float, default=0.0,
                    help="the least room between a link (or the palm) and the object")
-    p.add_argument("--orientations", type=int, default=200)
+    p.add_argument("--orientations", type=int, default=None,
+                   help="how many (default 200 random ones; along a turn 37, 5 deg apart)")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--turn", metavar="AXIS[:ANGLE]",
+                   help="the orientations of a turn about the palm's x, y or z (ANGLE rad, "
+                        "default pi) from the object's orientation then, not random ones")
     p.add_argument("--json", help="write the result here")
     a = p.parse_args(argv)
+    if a.orientations is None:
+        a.orientations = 37 if a.turn else 200
     if a.deviation < 0 or a.deviation > 1.5 or a.orientations < 1:
         p.error("--deviation must lie in [0, 1.5] and --orientations be at least 1")
     try:
-        room = from_log(a.log, a.deviation, a.margin_mm / 1000.0, a.orientations, a.seed)
+        turn = parse_turn(a.turn) if a.turn else None
+    except ValueError as e:
+        p.error(str(e))
+    try:
+        room = from_log(a.log, a.deviation, a.margin_mm / 1000.0, a.orientations, a.seed, turn)
     except RoomError as e:
         print(f"grasp-room: {e}", file=sys.stderr)
         return 2
@@ -342,6 +412,16 @@ def main(argv=None):
     blocked = sorted(room.at_home_blocked_by.items(), key=lambda item: -item[1])
     print("links in the way at the homes' directions (orientations): " +
           (", ".join(f"{link} {k}" for link, k in blocked) or "none"))
+    if turn is not None:
+        who = sorted({w for ws in room.without_room for w in ws})
+        for w in who:
+            runs = spans(room.angles_rad, [w in ws for ws in room.without_room])
+            what = "the palm lies in the object" if w == "palm" else f"{w} has no room"
+            print(f"{what} at " +
+                  ", ".join(f"{first:.2f}" if first == last else f"{first:.2f}-{last:.2f}"
+                            for first, last in runs) + " rad of the turn")
+        if not who:
+            print("every finger has room all along the turn")
     if a.json:
         try:
             Path(a.json).write_text(json.dumps(asdict(room), indent=1) + "\n")
