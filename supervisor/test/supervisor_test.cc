@@ -825,6 +825,11 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
               t->explorer_support.slack_rad = 0.35;
             }),
             "");
+  EXPECT_NE(error([](TaskParams* t) { t->edge_hop.move_timeout_s = 0; })
+                .find("key 'task.edge_hop.move_timeout_s'"),
+            std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->edge_hop.lift_m = 0.1; }).find("task.edge_hop.lift_m"),
+            std::string::npos);
   EXPECT_EQ(error([](TaskParams*) {}), "");
 }
 
