@@ -348,7 +348,7 @@ def parse_turn(text):
     except ValueError:
         raise ValueError(f"--turn: the angle must be a number of radians, not '{angle}'") from None
     if not 0 < abs(value) <= 4 * np.pi:
-        raise ValueError(f"--turn: the angle must lie in (0, 4 pi] rad, not {value}")
+        raise ValueError(f"--turn: the angle's size must lie in (0, 4 pi] rad, not {value}")
     return np.array(axes[name]), value
 
 
