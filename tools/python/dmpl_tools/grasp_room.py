@@ -140,7 +140,7 @@ class FingerChain:
 
     def __init__(self, hand, name):
         joints = {j.child: j for j in hand.joints}
-        self.name, self.chain, link = name, [], name + "_tip"
+        self.hand, self.name, self.chain, link = hand, name, [], name + "_tip"
         while link in joints:
             self.chain.insert(0, joints[link])
             link = joints[link].parent
@@ -156,14 +156,8 @@ class FingerChain:
                       if not j.child.endswith("_tip") and hand.shapes.get(j.child)]
 
     def poses(self, q):
-        t, out, i = np.eye(4), {}, 0
-        for j in self.chain:
-            t = t @ j.origin
-            if j.kind == "revolute":
-                t = t @ axis_angle(j.axis, q[i])
-                i += 1
-            out[j.child] = t
-        return out
+        """{link: pose (palm frame)} of the chain's links at joints `q`."""
+        return self.hand.link_poses(dict(zip(self.joints, q)), self.chain)
 
     def tip(self, q):
         return self.poses(q)[self.name + "_tip"][:3, 3]

@@ -54,10 +54,12 @@ class Hand:
     shapes: dict = field(default_factory=dict)   # link -> [Shape]
     joints: list = field(default_factory=list)   # parents before children
 
-    def link_poses(self, angles):
-        """{link: 4x4 pose in the root frame} for {joint name: angle}; a joint not given is 0."""
+    def link_poses(self, angles, joints=None):
+        """{link: 4x4 pose in the root frame} for {joint name: angle}; a joint not given is 0.
+        `joints` (default: all): the ones to follow, parents before children, the first one's
+        parent the root (one finger's chain)."""
         poses = {self.root: np.eye(4)}
-        for j in self.joints:
+        for j in self.joints if joints is None else joints:
             t = poses[j.parent] @ j.origin
             if j.kind == "revolute":
                 t = t @ axis_angle(j.axis, angles.get(j.name, 0.0))
