@@ -61,18 +61,32 @@ Eigen::Quaterniond Blackboard::SensedOrientation() const {
 
 void Blackboard::LearnSurface() {
   if (edge_detectors.size() != view.fingers.size()) edge_detectors.resize(view.fingers.size());
+  if (flat_detectors.size() != view.fingers.size()) flat_detectors.resize(view.fingers.size());
   for (size_t k = 0; k < view.fingers.size(); ++k) {
     const FingerView& f = view.fingers[k];
     const Eigen::Vector3d into = f.contact - f.tip;  // into the object
     const double radius = into.norm();
+    const bool explores =
+        k < out.task.fingers.size() && out.task.fingers[k].role == Role::kExplore;
     if (!f.SensesPoint()) {
       edge_detectors[k].Reset();
+      flat_detectors[k].Reset();
       continue;
     }
     tip_radius_m = tip_radius_m > 0 ? 0.99 * tip_radius_m + 0.01 * radius : radius;
     const Eigen::Vector3d outward = -into / radius;
     surface.Add(view.object, f.contact, outward, now);
     const Eigen::Isometry3d to_object = view.object.inverse();
+    // Only a sliding explorer: a grip finger's contact moves in the object frame by the pose
+    // estimate's drift alone.
+    if (!explores) {
+      flat_detectors[k].Reset();
+    } else if (auto face = flat_detectors[k].Add(now, to_object * f.contact,
+                                                  to_object.linear() * outward)) {
+      constexpr size_t kMaxFlatFaces = 64;
+      if (flat_faces.size() >= kMaxFlatFaces) flat_faces.erase(flat_faces.begin());
+      flat_faces.push_back(*face);
+    }
     if (auto edge = edge_detectors[k].Add(now, to_object * f.contact,
                                           to_object.linear() * outward)) {
       if (edge->continues) {  // the one this finger found last, turned further

@@ -10,6 +10,7 @@
 
 #include "supervisor/edge_detector.h"
 #include "supervisor/supervisor_types.h"
+#include "supervisor/face_bounds.h"
 #include "supervisor/surface_model.h"
 
 namespace dmpl {
@@ -57,6 +58,9 @@ struct Blackboard {
   };
   std::vector<EdgeDetector> edge_detectors;  // per finger
   std::vector<FeltEdge> edges;
+  // The faces an explorer has slid over flat (object frame; face_bounds.h), the latest kept.
+  std::vector<FlatFaceDetector> flat_detectors;  // per finger
+  std::vector<FlatFace> flat_faces;
   SupervisorOutput out;
   std::string note;
   int32_t next_task_id = 1;

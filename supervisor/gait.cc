@@ -108,6 +108,12 @@ void Gait::Explore(const std::string& finger) {
                                               board_->tip_radius_m, params_.max_contact_angle_rad);
   }
   std::string chosen;
+  // Where it lands: the others turn the object while it slides, unless it rides every step.
+  const Eigen::Matrix3d landing =
+      (four ? Eigen::Matrix3d::Identity()
+            : Eigen::AngleAxisd(sign * StepSize(), axis).toRotationMatrix()) *
+      board_->view.object.linear();
+  explore_.point = KeepOnFace(explore_.point, landing, &chosen);
   explore_.point = ChooseContact(f, explore_.point, axis, sign,
                                  four ? board_->num_fingers() : board_->num_fingers() - 1,
                                  &chosen);
@@ -162,11 +168,26 @@ Eigen::Vector3d Gait::ChooseContact(int f, const Eigen::Vector3d& point,
   const ContactChoice choice = chooser_->Choose(request, board_->view, board_->surface);
   if (choice.index == 0) return point;
   const ContactCandidate& c = choice.chosen();
-  *why = "at " + Fixed(c.offset_rad) + " rad from the gait's point (" + choice.why +
-         ": links " + Fixed(1e3 * c.link_clearance_m, 1) + " mm off, support " +
-         Fixed(c.support_n) + " N; there " + Fixed(1e3 * choice.candidates[0].link_clearance_m, 1) +
-         " mm, " + Fixed(choice.candidates[0].support_n) + " N)";
+  *why += std::string(why->empty() ? "" : ", ") + "at " + Fixed(c.offset_rad) +
+          " rad from the gait's point (" + choice.why + ": links " +
+          Fixed(1e3 * c.link_clearance_m, 1) + " mm off, support " + Fixed(c.support_n) +
+          " N; there " + Fixed(1e3 * choice.candidates[0].link_clearance_m, 1) + " mm, " +
+          Fixed(choice.candidates[0].support_n) + " N)";
   return c.tip;
+}
+
+Eigen::Vector3d Gait::KeepOnFace(const Eigen::Vector3d& point, const Eigen::Matrix3d& landing,
+                                 std::string* why) const {
+  if (params_.face_bounds.margin_m <= 0) return point;
+  const Eigen::Vector3d centre = board_->view.object.translation();
+  double moved = 0.0;
+  const Eigen::Vector3d kept = KeepInsideFace(landing.transpose() * (point - centre),
+                                              board_->surface, board_->flat_faces,
+                                              params_.face_bounds, &moved);
+  if (moved <= 0.0) return point;
+  *why += std::string(why->empty() ? "" : ", ") + "kept " + Fixed(1e3 * moved, 1) +
+          " mm further inside its face";
+  return centre + landing * kept;
 }
 
 double Gait::StepClearOfLinks(const Eigen::Vector3d& axis, double step) {

@@ -109,6 +109,12 @@ class Gait : private RegraspActions {
     return params_.has_goals() && params_.max_finger_deviation_rad > 0;
   }
 
+  // params.face_bounds: the explorer's `point` (its tip's centre, palm frame), or where it stands
+  // face_bounds.margin_m inside its felt face (face_bounds.h) once the object has the
+  // orientation `landing` it will have when the explorer lands; `why` says so when it moved.
+  Eigen::Vector3d KeepOnFace(const Eigen::Vector3d& point, const Eigen::Matrix3d& landing,
+                             std::string* why) const;
+
   // params.edge_hop: whether the explorer's way from its contact to its target crosses a felt
   // edge (edge_hop.h); if so it eases, is lifted and moved over its point first.
   bool HopsOverEdge(int f) const;

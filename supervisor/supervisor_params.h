@@ -4,6 +4,7 @@
 
 #include "components/controller/grasp_support.h"
 #include "components/runtime/params.h"
+#include "supervisor/face_bounds.h"
 #include "supervisor/goal_planner.h"
 #include "supervisor/turn_mode.h"
 
@@ -208,6 +209,7 @@ struct TaskParams {
   ContactChoiceParams contact_choice;
   StruckFingerParams struck_fingers;
   EdgeHopParams edge_hop;
+  FaceBoundsParams face_bounds;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -237,6 +239,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(contact_choice));
     a->Visit(DMPL_NVP(struck_fingers));
     a->Visit(DMPL_NVP(edge_hop));
+    a->Visit(DMPL_NVP(face_bounds));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations

@@ -44,6 +44,43 @@ TEST(BlackboardTest, TheSurfaceIsLearnedInTheObjectsFrameWithTheTipsRadius) {
   EXPECT_GT(s.normal.dot(Eigen::Vector3d(1, 1, 0.2).normalized()), 0.99);
 }
 
+// Finger 0 slides 1.5 cm in 1.5 s with role `role` over the 5 cm cube's -y face, or round a 2.5
+// cm sphere's equator; returns the faces felt flat.
+std::vector<FlatFace> FlatFacesAfterASlide(Role role, bool sphere) {
+  Blackboard board({"R"});
+  board.view.fingers.resize(1);
+  board.out.task.fingers.resize(1);
+  board.out.task.fingers[0].role = role;
+  board.view.object.translation() = Eigen::Vector3d(0.07, 0.0, 0.015);
+  const Eigen::Vector3d centre = board.view.object.translation();
+  for (int i = 0; i <= 150; ++i) {
+    const double along = 0.0001 * i;  // 1 cm/s
+    const Eigen::Vector3d from = sphere ? Eigen::Vector3d(std::sin(along / 0.025),
+                                                          -std::cos(along / 0.025), 0.0)
+                                        : -Eigen::Vector3d::UnitY();
+    FingerView& f = board.view.fingers[0];
+    f = Touching(centre, from, -from);
+    if (!sphere) {
+      f.contact = centre + Eigen::Vector3d(along, -0.025, 0.0);
+      f.tip = f.contact + 0.012 * from;
+    }
+    board.now = 0.01 * i;
+    board.LearnSurface();
+  }
+  return board.flat_faces;
+}
+
+TEST(BlackboardTest, AnExplorerSlidingOverAFlatFaceFeelsItFlat) {
+  const std::vector<FlatFace> faces = FlatFacesAfterASlide(Role::kExplore, false);
+  ASSERT_EQ(faces.size(), 1u);  // once per slide, when it has gone 1.2 cm
+  EXPECT_NEAR(faces[0].normal.dot(-Eigen::Vector3d::UnitY()), 1.0, 1e-9);
+  EXPECT_NEAR(faces[0].point.y(), -0.025, 1e-9);  // on it, in the object's frame
+  // Round a sphere the normal turns (0.5 rad over 1.2 cm): no face.
+  EXPECT_TRUE(FlatFacesAfterASlide(Role::kExplore, true).empty());
+  // A grip finger's contact moves in the object frame by the pose estimate's drift: not a slide.
+  EXPECT_TRUE(FlatFacesAfterASlide(Role::kGrip, false).empty());
+}
+
 TEST(BlackboardTest, AContactsAngleRunsFromTheTipsAxisToTheNormalIntoTheObject) {
   const Eigen::Vector3d centre(0.07, 0.0, 0.0), y = Eigen::Vector3d::UnitY();
   // Touching with its front (its axis into the object): 0; with its side: 90 deg.

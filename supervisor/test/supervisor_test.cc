@@ -614,6 +614,64 @@ TEST(SupervisorTest, AnExplorerSlidesOverAFeltEdgeUnlessAskedToStep) {
   ExpectStepOverAFeltEdge(false);
 }
 
+// The 5 cm cube held at four faces (thumb -z, fore +y, middle +z, ring -y), turned about x by the
+// four-finger gait, the controller's events answered at once. In its first explore the ring
+// finger slides 1.5 cm over its face (felt flat). Returns its target and the supervisor's note
+// when it explores again: as the gait plans it (2 steps of 0.35 rad back about x from its home,
+// on the felt surface), 5 mm from the middle finger's face.
+std::pair<Eigen::Vector3d, std::string> RingFingersSecondExplore(double margin_m) {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.angle = 3.0;
+  tp.step = 0.35;
+  tp.face_bounds.margin_m = margin_m;
+  Driver d("fig10_gait", tp);
+  PlaceTips(&d, 0.037);
+  const Eigen::Vector3d c = d.view.object.translation();
+  for (FingerView& f : d.view.fingers) {
+    f.contact = c + (f.tip - c) * (0.025 / 0.037);
+    f.force = 1.0;
+  }
+  d.Grasp();
+  int explores = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const RegraspChart& chart = d.sup.regrasp();
+    const std::string before = chart.last_action();
+    if (chart.exploring()) {
+      if (d.sup.roles()[3] == Role::kExplore && explores == 0) {
+        FingerView& r = d.view.fingers[3];
+        for (int k = 0; k <= 150; ++k) {  // 1 cm/s
+          r.contact = c + Eigen::Vector3d(0.0001 * k, -0.025, 0.0);
+          r.tip = r.contact + Eigen::Vector3d(0.0, -0.012, 0.0);
+          d.Tick();
+        }
+      }
+      for (int f = 0; f < 4; ++f) {
+        if (d.sup.roles()[f] == Role::kExplore) d.Event(EventType::kTargetReached, f);
+      }
+    } else if (chart.rotating()) {
+      d.Event(EventType::kMotionDone);
+    }
+    const SupervisorOutput& out = d.Tick();
+    if (chart.last_action() != before && chart.last_action() == "A4 R explore" && ++explores == 2) {
+      return {out.task.fingers[3].target - c, d.sup.note()};
+    }
+  }
+  ADD_FAILURE() << "the ring finger did not explore twice";
+  return {};
+}
+
+TEST(SupervisorTest, AnExplorerOnAFaceFeltFlatStaysTheMarginInsideItsEdges) {
+  const auto [planned, planned_note] = RingFingersSecondExplore(0.0);
+  EXPECT_GT(std::abs(planned.z()), 0.019);  // its contact under 6 mm from the next face
+  EXPECT_EQ(planned_note.find("inside its face"), std::string::npos) << planned_note;
+  const auto [kept, kept_note] = RingFingersSecondExplore(0.009);
+  EXPECT_NEAR(std::abs(kept.z()), 0.025 - 0.009, 1e-6);  // 9 mm from the next face
+  EXPECT_NEAR(kept.y(), planned.y(), 1e-9);        // moved along its face only
+  EXPECT_NEAR(kept.x(), planned.x(), 1e-9);
+  EXPECT_NE(kept_note.find("mm further inside its face"), std::string::npos) << kept_note;
+}
+
 TEST(SupervisorTest, RecoveryPlacesAFingerThatDoesNotTouchAgain) {
   Driver d("fig8_rotate");
   PlaceTips(&d, 0.037);
@@ -829,6 +887,12 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
                 .find("key 'task.edge_hop.move_timeout_s'"),
             std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->edge_hop.lift_m = 0.1; }).find("task.edge_hop.lift_m"),
+            std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->face_bounds.margin_m = -0.001; })
+                .find("key 'task.face_bounds.margin_m'"),
+            std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->face_bounds.min_angle_rad = 0; })
+                .find("key 'task.face_bounds.min_angle_rad'"),
             std::string::npos);
   EXPECT_EQ(error([](TaskParams*) {}), "");
 }
