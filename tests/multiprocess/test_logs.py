@@ -433,6 +433,43 @@ class SummariesTest(unittest.TestCase):
             self.assertLess(size, 10e6)
         shutil.rmtree(out)
 
+    def test_a_trial_whose_process_dies_is_an_error_row_and_the_sweep_goes_on(self):
+        folder = Path(tempfile.mkdtemp(prefix="dmpl_crash_"))
+        cases_file = folder / "cases.yaml"
+        cases_file.write_text(f"base: {FIG8}\ncases:\n  - {{name: nominal}}\n"
+                              "  - {name: doomed, set: {object.mass: 0.05}}\n")
+        stop = threading.Event()
+
+        def crash_the_doomed_trial():
+            # As the LCM binding once did to a whole sweep: a segfault in the trial's Python.
+            while not stop.is_set():
+                ps = subprocess.run(["pgrep", "-f", "--", "run-spec.*doomed"], capture_output=True,
+                                    text=True)
+                pids = [int(p) for p in ps.stdout.split()]
+                for pid in pids:
+                    if "python" in Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace"):
+                        os.kill(pid, 11)
+                        return
+                stop.wait(0.05)
+
+        killer = threading.Thread(target=crash_the_doomed_trial)
+        killer.start()
+        try:
+            trials, rate = run_sweep(cases_file, 1, 2, folder / "out",
+                                     cases=load_cases(cases_file))
+        finally:
+            stop.set()
+            killer.join()
+        self.assertEqual([t["case"] for t in trials], ["nominal", "doomed"])
+        self.assertEqual(trials[0]["status"], "success")
+        self.assertEqual(trials[1]["status"], "error")
+        self.assertIn("killed by signal 11", " ".join(trials[1]["problems"]))
+        self.assertEqual(rate, 0.5)
+        doc = json.loads((folder / "out/sweep.json").read_text())
+        self.assertEqual(doc["trials"], 2)
+        self.assertIn("| doomed | 1 |", (folder / "out/sweep.md").read_text())
+        shutil.rmtree(folder)
+
     def test_a_sweep_of_cases_writes_a_table_per_case(self):
         folder = Path(tempfile.mkdtemp(prefix="dmpl_cases_"))
         cases_file = folder / "cases.yaml"

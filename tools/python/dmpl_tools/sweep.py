@@ -5,7 +5,9 @@ N trials of one experiment with seeds 1..N (or --first-seed S..), J at a time. W
 case of FILE times every seed: FILE names a base experiment and a list of named cases, each a set
 of overrides (the keys of --set; see configs/benchmarks/unknown_objects.yaml), and the tables are
 per case. Each trial runs in one-process mode (no sockets shared, nothing to collide);
---multiprocess runs the full process set instead, each trial on its own LCM port. Writes DIR/sweep.md
+--multiprocess runs the full process set instead, each trial on its own LCM port. Each trial's
+launcher runs in a Python process of its own: one that dies (a signal, a crash of a binding) is
+that trial's error row, and the sweep goes on. Writes DIR/sweep.md
 (tables), DIR/sweep.json (keys `trials`, `success_rate`, `cases`, and one summary per trial),
 DIR/sweep.parquet (one row per trial, for pandas and polars) and each trial's run directory
 (DIR/seedN, or DIR/CASE/seedN). Trials keep no log by default (--record none: their metrics are
@@ -31,7 +33,6 @@ from pathlib import Path
 
 from . import experiment
 from .affinity import child_command
-from .launch import ACTIVE
 from .lcm_url import LcmUnavailable
 from .process_set import RECORD_POLICIES, SetError
 from .paths import OUT, ROOT
@@ -358,7 +359,7 @@ def _run_here(specs, jobs, report):
     def trial(spec):
         cpu = cpus.get() if pinned else None
         try:
-            summary = run_trial(dict(spec, cpus=None if cpu is None else [cpu]))
+            summary = _trial_in_own_process(dict(spec, cpus=None if cpu is None else [cpu]))
         finally:
             if cpu is not None:
                 cpus.put(cpu)
@@ -371,14 +372,35 @@ def _run_here(specs, jobs, report):
         try:
             return [f.result() for f in futures]
         except KeyboardInterrupt:
+            # The trials' processes have the interrupt too (one process group): each stops its set.
             for f in futures:
                 f.cancel()
-            for launcher in list(ACTIVE):
-                launcher.request_stop("sweep interrupted")
             raise
 
 
 WORKER_WAIT_S = 30
+
+
+def _trial_in_own_process(spec):
+    """run_trial in a Python process of its own (`--run-spec`): a crash there is that trial's
+    error row, not the end of the sweep and its table (the LCM binding has segfaulted in a sweep
+    that ran its launchers as threads of one process, 145 trials into 150)."""
+    done = subprocess.run(child_command([sys.executable, "-m", "dmpl_tools.sweep", "--run-spec",
+                                         json.dumps(spec)], None),
+                          stdout=subprocess.PIPE, text=True, check=False)
+    lines = done.stdout.strip().splitlines()
+    if done.returncode == 0 and lines:
+        try:
+            return json.loads(lines[-1])
+        except ValueError:
+            pass
+    how = (f"killed by signal {-done.returncode}" if done.returncode < 0
+           else f"exit {done.returncode}")
+    summary = {"status": "error", "seed": spec["seed"],
+               "problems": [f"the trial's process died ({how}) in {spec['run_dir']}"]}
+    if spec["case"] is not None:
+        summary["case"] = spec["case"]
+    return summary
 
 
 def _worker_command(*args):
