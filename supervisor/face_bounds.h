@@ -3,13 +3,12 @@
 // (issue 29). The object is convex, so it lies behind the tangent plane of every face a fingertip
 // has felt: a flat face ends, at the latest, where it meets another felt face's plane. That
 // bounds where a face's edges lie before any explorer has slid over them: on a cube held at four
-// faces, the edges between those faces are known from the grasp alone. A fingertip placed near
-// such an edge stands with its distal link over the next face, and the turns it rides next carry
-// it to the edge (the cube's runs show both). Curved surfaces imply no near edge:
-// a point is bounded only on a face felt flat (a fingertip slid 1.2 cm over it with its normal
-// unturned), and only by planes whose normals differ from its face's by min_angle_rad or more
-// (1.2 rad). So a hexagonal prism's sides (1.05 rad apart) do not bound each other; its ends
-// bound them.
+// faces, the edges between those faces are known from the grasp alone. The gait plans an
+// explorer's point on a sphere through its home, which on a flat face lies toward the edges (the
+// cube's runs put the ring finger 0.5-9 mm from one). Curved surfaces imply no near edge: a point
+// is bounded only on a face felt flat (a fingertip slid 1.2 cm over it with its normal unturned),
+// and only by planes whose normals differ from its face's by min_angle_rad or more (1.2 rad). So
+// a hexagonal prism's sides (1.05 rad apart) do not bound each other; its ends bound them.
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,10 +66,10 @@ class FlatFaceDetector {
 // The fingertip's centre `tip` (object frame) moved along the face it would touch until its
 // contact there lies at least params.margin_m from every felt tangent plane that bounds the face
 // (normals at least min_angle_rad apart); unchanged where none is nearer, or where the contact
-// lies past any felt plane turned from the face's (the gait sends it round to the next face:
-// a hexagonal prism's next side is turned 1.05 rad, under min_angle_rad). The face is the felt plane the tip lies furthest outside of, and it
-// must be one of the faces `flat` (a sphere's tangent planes imply no edge). `moved_m`, if given,
-// gets how far the tip was moved.
+// lies past any felt plane turned from the face's (the gait sends it round to the next face: a
+// hexagonal prism's next side is turned 1.05 rad, under min_angle_rad). The face is the felt
+// plane the tip lies furthest outside of, and it must be one of the faces `flat` (a sphere's
+// tangent planes imply no edge). `moved_m`, if given, gets how far the tip was moved.
 Eigen::Vector3d KeepInsideFace(const Eigen::Vector3d& tip, const SurfaceModel& surface,
                                const std::vector<FlatFace>& flat, const FaceBoundsParams& params,
                                double* moved_m = nullptr);

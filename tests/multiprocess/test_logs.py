@@ -447,7 +447,8 @@ class SummariesTest(unittest.TestCase):
                                     text=True)
                 pids = [int(p) for p in ps.stdout.split()]
                 for pid in pids:
-                    if "python" in Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace"):
+                    cmdline = Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace")
+                    if "python" in cmdline:
                         os.kill(pid, 11)
                         return
                 stop.wait(0.05)
