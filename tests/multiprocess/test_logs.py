@@ -447,10 +447,13 @@ class SummariesTest(unittest.TestCase):
                                     text=True)
                 pids = [int(p) for p in ps.stdout.split()]
                 for pid in pids:
-                    cmdline = Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace")
-                    if "python" in cmdline:
-                        os.kill(pid, 11)
-                        return
+                    try:
+                        cmdline = Path(f"/proc/{pid}/cmdline").read_bytes().decode(errors="replace")
+                        if "python" in cmdline:
+                            os.kill(pid, 11)
+                            return
+                    except OSError:  # gone meanwhile
+                        pass
                 stop.wait(0.05)
 
         killer = threading.Thread(target=crash_the_doomed_trial)
