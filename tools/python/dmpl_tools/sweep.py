@@ -22,6 +22,7 @@ import json
 import os
 import platform
 import queue
+import signal
 import statistics
 import subprocess
 import sys
@@ -372,30 +373,46 @@ def _run_here(specs, jobs, report):
         try:
             return [f.result() for f in futures]
         except KeyboardInterrupt:
-            # The trials' processes have the interrupt too (one process group): each stops its set.
             for f in futures:
                 f.cancel()
+            # Each trial's process stops its set on the interrupt (a terminal's Ctrl-C reaches
+            # them already; a `kill -INT` of the sweep alone does not).
+            with _TRIALS_LOCK:
+                for child in list(_TRIAL_PROCESSES):
+                    if child.poll() is None:
+                        child.send_signal(signal.SIGINT)
             raise
 
 
 WORKER_WAIT_S = 30
 
 
+_TRIAL_PROCESSES = set()  # the trials' processes running now (_trial_in_own_process)
+_TRIALS_LOCK = threading.Lock()
+
+
 def _trial_in_own_process(spec):
     """run_trial in a Python process of its own (`--run-spec`): a crash there is that trial's
     error row, not the end of the sweep and its table (the LCM binding has segfaulted in a sweep
     that ran its launchers as threads of one process, 145 trials into 150)."""
-    done = subprocess.run(child_command([sys.executable, "-m", "dmpl_tools.sweep", "--run-spec",
-                                         json.dumps(spec)], None),
-                          stdout=subprocess.PIPE, text=True, check=False)
-    lines = done.stdout.strip().splitlines()
-    if done.returncode == 0 and lines:
+    child = subprocess.Popen(child_command([sys.executable, "-m", "dmpl_tools.sweep", "--run-spec",
+                                            json.dumps(spec)], None),
+                             stdout=subprocess.PIPE, text=True)
+    with _TRIALS_LOCK:
+        _TRIAL_PROCESSES.add(child)
+    try:
+        out, _ = child.communicate()
+    finally:
+        with _TRIALS_LOCK:
+            _TRIAL_PROCESSES.discard(child)
+    lines = out.strip().splitlines()
+    if child.returncode == 0 and lines:
         try:
             return json.loads(lines[-1])
         except ValueError:
             pass
-    how = (f"killed by signal {-done.returncode}" if done.returncode < 0
-           else f"exit {done.returncode}")
+    how = (f"killed by signal {-child.returncode}" if child.returncode < 0
+           else f"exit {child.returncode}")
     summary = {"status": "error", "seed": spec["seed"],
                "problems": [f"the trial's process died ({how}) in {spec['run_dir']}"]}
     if spec["case"] is not None:
