@@ -9,11 +9,13 @@ import os
 import random
 import re
 import shutil
+import signal
 import struct
 import subprocess
 import sys
 import tempfile
 import threading
+import time
 import unittest
 from pathlib import Path
 
@@ -473,6 +475,23 @@ class SummariesTest(unittest.TestCase):
         self.assertEqual(doc["trials"], 2)
         self.assertIn("| doomed | 1 |", (folder / "out/sweep.md").read_text())
         shutil.rmtree(folder)
+
+    def test_an_interrupt_of_the_sweep_alone_stops_its_trials(self):
+        # SIGINT to the sweep's process only (not its group, as `kill -INT PID` sends it): each
+        # trial's process is told, stops its set and says so; the sweep exits 130.
+        out = Path(tempfile.mkdtemp(prefix="dmpl_intr_"))
+        sweep = subprocess.Popen(
+            [sys.executable, "-m", "dmpl_tools.sweep", str(EXP / "reorient_random.yaml"),
+             "--seeds", "2", "--out", str(out)], cwd=mp.ROOT, stderr=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        time.sleep(4)  # both trials under way (each runs ~60 s)
+        sweep.send_signal(signal.SIGINT)
+        self.assertEqual(sweep.wait(timeout=30), 130)
+        for seed in (1, 2):
+            summary = json.loads((out / f"seed{seed}/summary.json").read_text())
+            self.assertEqual(summary["status"], "interrupted")
+        shutil.rmtree(out)
 
     def test_a_sweep_of_cases_writes_a_table_per_case(self):
         folder = Path(tempfile.mkdtemp(prefix="dmpl_cases_"))
