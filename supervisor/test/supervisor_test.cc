@@ -280,6 +280,17 @@ void PlaceTips(Driver* d, double radius) {
   d->view.fingers[3].tip = c + Eigen::Vector3d(0, -radius, 0);
 }
 
+// The tips of PlaceTips(d, 0.037) each touching with 1 N, their contacts 2.5 cm from the centre
+// (the 2.5 cm sphere, or the middles of the 5 cm cube's faces).
+void TouchAtTheirHomes(Driver* d) {
+  PlaceTips(d, 0.037);
+  const Eigen::Vector3d c = d->view.object.translation();
+  for (FingerView& f : d->view.fingers) {
+    f.contact = c + (f.tip - c) * (0.025 / 0.037);
+    f.force = 1.0;
+  }
+}
+
 // On its way over its home, R's tip meets the surface: it grips there at once instead of pressing
 // on toward its point, inside the object.
 TEST(SupervisorTest, AFingerPlacedAgainThatTouchesOnItsWayGripsThere) {
@@ -420,12 +431,7 @@ TEST(SupervisorTest, AFingerLeavingToExploreSaysWhatTheOthersHoldAgainstGravity)
   tp.angle = 0.35;
   tp.support.friction = 0.1;
   Driver d("fig10_gait", tp);
-  PlaceTips(&d, 0.037);
-  const Eigen::Vector3d c = d.view.object.translation();
-  for (auto& f : d.view.fingers) {
-    f.contact = c + (f.tip - c) * (0.025 / 0.037);
-    f.force = 1.0;
-  }
+  TouchAtTheirHomes(&d);
   d.view.gravity = Eigen::Vector3d::UnitZ();
   d.Grasp();
   auto held = [&](const std::string& finger) {
@@ -626,12 +632,8 @@ std::pair<Eigen::Vector3d, std::string> RingFingersSecondExplore(double margin_m
   tp.step = 0.35;
   tp.face_bounds.margin_m = margin_m;
   Driver d("fig10_gait", tp);
-  PlaceTips(&d, 0.037);
+  TouchAtTheirHomes(&d);
   const Eigen::Vector3d c = d.view.object.translation();
-  for (FingerView& f : d.view.fingers) {
-    f.contact = c + (f.tip - c) * (0.025 / 0.037);
-    f.force = 1.0;
-  }
   d.Grasp();
   int explores = 0;
   for (int i = 0; i < 2000; ++i) {

@@ -211,7 +211,15 @@ def run_trial(spec):
                                     record=spec["record"], cpus=spec.get("cpus"))
     except (experiment.ExperimentError, OSError, ValueError) as e:
         # A trial that cannot run is a row that says why, not a sweep that stops.
-        summary = {"status": "error", "seed": spec["seed"], "problems": [str(e)]}
+        return _error_summary(spec, str(e))
+    if spec["case"] is not None:
+        summary["case"] = spec["case"]
+    return summary
+
+
+def _error_summary(spec, problem):
+    """The row of a trial that did not run to its end, saying why."""
+    summary = {"status": "error", "seed": spec["seed"], "problems": [problem]}
     if spec["case"] is not None:
         summary["case"] = spec["case"]
     return summary
@@ -395,8 +403,7 @@ def _trial_in_own_process(spec):
     """run_trial in a Python process of its own (`--run-spec`): a crash there is that trial's
     error row, not the end of the sweep and its table (the LCM binding has segfaulted in a sweep
     that ran its launchers as threads of one process, 145 trials into 150)."""
-    child = subprocess.Popen(child_command([sys.executable, "-m", "dmpl_tools.sweep", "--run-spec",
-                                            json.dumps(spec)], None),
+    child = subprocess.Popen(_worker_command("--run-spec", json.dumps(spec)),
                              stdout=subprocess.PIPE, text=True)
     with _TRIALS_LOCK:
         _TRIAL_PROCESSES.add(child)
@@ -413,15 +420,12 @@ def _trial_in_own_process(spec):
             pass
     how = (f"killed by signal {-child.returncode}" if child.returncode < 0
            else f"exit {child.returncode}")
-    summary = {"status": "error", "seed": spec["seed"],
-               "problems": [f"the trial's process died ({how}) in {spec['run_dir']}"]}
-    if spec["case"] is not None:
-        summary["case"] = spec["case"]
-    return summary
+    return _error_summary(spec, f"the trial's process died ({how}) in {spec['run_dir']}")
 
 
 def _worker_command(*args):
-    """What a Dask worker runs, for its check and for each trial: `python -m dmpl_tools.sweep`
+    """What a Dask worker runs, for its check and for each trial (and what runs each trial of a
+    sweep here, _trial_in_own_process): `python -m dmpl_tools.sweep`
     with this client's Python (the project's venv, at the same path) in the worker's
     environment (its PYTHONPATH), killed with the worker (setpriv: Dask runs a dead worker's
     trial again on another, so the first must not run on). Submitted as subprocess.run with
