@@ -4,9 +4,12 @@
 
 namespace dmpl {
 
-FingerReplacer::FingerReplacer(Blackboard* board, const SupervisorParams& params)
+FingerReplacer::FingerReplacer(Blackboard* board, const SupervisorParams& params,
+                               const ContactChooser* chooser, double min_spacing_m)
     : board_(board),
       params_(params),
+      chooser_(chooser),
+      min_spacing_m_(min_spacing_m),
       stage_(board->fingers.size(), Stage::kNone),
       since_(board->fingers.size(), 0.0),
       shift_(board->fingers.size(), 0.0),
@@ -113,8 +116,10 @@ void FingerReplacer::MoveOverHome(int f) {
   if (felt.Differs(out - board_->tip_radius_m)) {
     out = std::max(out, felt.distance_m + board_->tip_radius_m);
   }
-  const Eigen::Vector3d target =
-      board_->view.object.translation() + direction * (out + params_.replace_lift_m);
+  Eigen::Vector3d tip = board_->view.object.translation() + direction * out;
+  Eigen::Vector3d away = direction;
+  ChooseOnFeltSurface(f, &tip, &away);
+  const Eigen::Vector3d target = tip + away * params_.replace_lift_m;
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
   stage_[f] = Stage::kOver;
@@ -128,6 +133,26 @@ Eigen::Vector3d FingerReplacer::PlacementDirection(int f) const {
   const Eigen::Vector3d back = base_side_[f] - base_side_[f].dot(d) * d;
   if (shift_[f] <= 0 || back.norm() < 1e-6) return d;
   return Eigen::AngleAxisd(shift_[f], d.cross(back).normalized()) * d;
+}
+
+void FingerReplacer::ChooseOnFeltSurface(int f, Eigen::Vector3d* tip, Eigen::Vector3d* away) {
+  if (chooser_ == nullptr || !params_.replace_on_felt_surface || board_->tip_radius_m <= 0) {
+    return;
+  }
+  ContactRequest request;  // no ride: it grips where it lands, and the object is held still
+  request.finger = f;
+  request.point = *tip;
+  request.tip_radius_m = board_->tip_radius_m;
+  request.min_spacing_m = min_spacing_m_;
+  const ContactChoice choice = chooser_->Choose(request, board_->view, board_->surface);
+  if (choice.index == 0) return;
+  const ContactCandidate& c = choice.chosen();
+  *tip = c.tip;
+  *away = c.outward;
+  board_->Note("placing finger " + board_->fingers[f] + " again at " + Fixed(c.offset_rad) +
+               " rad from its point (" + choice.why + ": links " +
+               Fixed(1e3 * c.link_clearance_m, 1) + " mm off; there " +
+               Fixed(1e3 * choice.candidates[0].link_clearance_m, 1) + " mm)");
 }
 
 void FingerReplacer::BringIn(int f) {

@@ -8,19 +8,24 @@
 // (supervisor.replace_shift_rad). A finger that lost its contact far from home
 // often rests on the object with a link (no tactile sensor there) and would press on it forever
 // with its tip just short of the surface; so would one that touches with a link while its tip
-// touches too (supervisor.replace_on_link).
+// touches too (supervisor.replace_on_link). With supervisor.replace_on_felt_surface the point it
+// goes over is chosen on the felt surface about that point (ContactChooser): where its tip reaches
+// and its links stay clear.
 #include <string>
 #include <vector>
 
 #include "supervisor/blackboard.h"
+#include "supervisor/contact_chooser.h"
 #include "supervisor/supervisor_params.h"
 
 namespace dmpl {
 
 class FingerReplacer {
  public:
-  // The references must outlive the replacer.
-  FingerReplacer(Blackboard* board, const SupervisorParams& params);
+  // The references must outlive the replacer. `chooser` (may be null: the point as planned)
+  // chooses on the felt surface, keeping tips `min_spacing_m` apart (their centres).
+  FingerReplacer(Blackboard* board, const SupervisorParams& params,
+                 const ContactChooser* chooser = nullptr, double min_spacing_m = 0.0);
 
   void Reset();  // nobody is being placed
   // One tick of the recovery that began at `recovery_since`.
@@ -39,10 +44,15 @@ class FingerReplacer {
   void MoveOverHome(int f);
   // Its home's direction from the object's centre, turned toward its base by shift_[f].
   Eigen::Vector3d PlacementDirection(int f) const;
+  // Its tip's target `tip` on the surface and the way out from there, `away` (unit), moved to
+  // the chooser's point on the felt surface where it finds one better (replace_on_felt_surface).
+  void ChooseOnFeltSurface(int f, Eigen::Vector3d* tip, Eigen::Vector3d* away);
   void BringIn(int f);
 
   Blackboard* board_;
   const SupervisorParams& params_;
+  const ContactChooser* chooser_;
+  double min_spacing_m_;
   std::vector<Stage> stage_;
   std::vector<double> since_;
   std::vector<double> shift_;                 // rad, toward the base (this recovery)

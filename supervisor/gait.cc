@@ -11,16 +11,6 @@
 
 namespace dmpl {
 
-namespace {
-
-std::string Fixed(double value, int digits = 2) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << value;
-  return os.str();
-}
-
-}  // namespace
-
 Gait::Gait(Blackboard* board, ObjectGoal* goal, const GaitSpec& spec, const TaskParams& params,
            uint64_t seed, Report report, const ContactChooser* chooser)
     : board_(board),

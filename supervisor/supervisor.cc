@@ -22,7 +22,7 @@ Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskPar
       local_(&board_, &goal_, task_params_,
              [this](GraspEvent e, const GraspEventData& d) { grasp_.Process(e, d); },
              [this] { gait_.LocalRotate(); }),
-      replacer_(&board_, params_),
+      replacer_(&board_, params_, chooser_.get(), tasks_.gait.tip_clearance_m),
       extensions_(board_.fingers.size(), 0),
       grasp_(BuildGraspChart()) {
   DMPL_DEMAND(board_.fingers.size() == RegraspChart::kFingers);  // the node's Load says it clearly

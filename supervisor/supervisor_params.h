@@ -274,6 +274,11 @@ struct SupervisorParams {
   double replace_stall_m = 0.002;
   double replace_shift_rad = 0.3;
   double replace_max_shift_rad = 0.6;
+  // The point over which a finger is placed again chosen on the felt surface (contact_chooser.h,
+  // task.contact_choice's candidates about the point above): one its tip reaches within the
+  // joints' limits with its links clear of the felt surface, apart from the other tips. Off: the
+  // point above.
+  bool replace_on_felt_surface = false;
   // A grip finger whose links touch (the controller's LINK_CONTACT, not yet released) for
   // link_rest_s while its tip pushes less than link_rest_tip_share of the force planned for it
   // is placed again the same way, in a recovery begun for it if the tasks are under way
@@ -302,6 +307,7 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(replace_stall_m), Above(0));
     a->Visit(DMPL_NVP(replace_shift_rad), InRange(0, 1.5));
     a->Visit(DMPL_NVP(replace_max_shift_rad), InRange(0, 1.5));
+    a->Visit(DMPL_NVP(replace_on_felt_surface));
     a->Visit(DMPL_NVP(replace_on_link));
     a->Visit(DMPL_NVP(link_rest_s), AtLeast(0));
     a->Visit(DMPL_NVP(link_rest_tip_share), InRange(0, 1));

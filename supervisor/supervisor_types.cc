@@ -2,8 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace dmpl {
+
+std::string Fixed(double value, int digits) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << value;
+  return os.str();
+}
 
 bool FingerView::SensesPoint() const {
   constexpr double kMinForceN = 0.05;

@@ -21,6 +21,8 @@ enum class GraspEvent {
 };
 const char* ToString(GraspState s);
 const char* ToString(GraspEvent e);
+// `value` with `digits` after the point: a number in the supervisor's notes.
+std::string Fixed(double value, int digits = 2);
 // What a grasp event carries: why (for the log, the status and the action that handles it) and
 // the finger it is about.
 struct GraspEventData {
