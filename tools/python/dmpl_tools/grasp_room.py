@@ -8,17 +8,18 @@ least `margin` off the object? This asks of the hand's geometry alone what the g
 has. The hand is the project's hand model (hand_geometry: forward kinematics, the links' shapes,
 the joints' limits), each tip placed by damped least squares from the finger's posture then (one
 posture of the finger's redundant joint, the IK's nearest: another might clear where this one
-does not), its links' surfaces sampled every 1.5 mm (a touch shallower than that between samples
-can go unseen). The object's
-shape is the run's config: the simulator's truth, for an analysis of the hand, never something
-the controller reads.
+does not; --postures N also starts from N postures drawn within the joints' limits), its
+links' surfaces sampled every 1.5 mm (a touch shallower than that between samples can go unseen).
+The object's shape is the run's config: the simulator's truth, for an analysis of the hand, never
+something the controller reads.
 
 With --turn AXIS[:ANGLE] the orientations are not random but those the object passes through
 as it turns ANGLE rad (default pi) about the palm's AXIS (x, y or z) from its orientation then:
 at which angles of a full turn does some finger find no room? A gait that keeps every finger on
 the object has to pass those angles with a finger that cannot be placed.
 
-    tools/dmpl grasp-room RUN/run.lcmlog [--deviation 0.35] [--margin-mm 0] [--json FILE]
+    tools/dmpl grasp-room RUN/run.lcmlog [--deviation 0.35] [--margin-mm 0] [--postures 0]
+                          [--json FILE]
     tools/dmpl grasp-room RUN/run.lcmlog --turn y [--orientations 37]
 """
 import argparse
@@ -197,6 +198,7 @@ class Room:
     at_home_blocked_by: dict = field(default_factory=dict)
     deviation_rad: float = 0.0
     margin_m: float = 0.0
+    postures: int = 0                              # more starts of each placement
     # A turn's orientations (--turn): the angle of each, and who found no room there (fingers,
     # or "palm" where the palm lies in the object).
     angles_rad: list = field(default_factory=list)
@@ -231,10 +233,13 @@ def turn_rotations(start, axis, angle, count):
 
 
 def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0,
-               orientations=200, seed=1, palm_points=None, rotations=None):
+               orientations=200, seed=1, palm_points=None, rotations=None, postures=0):
     """Room for the object of config section `obj` held at `centre` (palm frame), the fingers at
     `joints` ({name: angle}) when it began: see the module's doc. `rotations` (object to palm,
-    3x3 each; None: `orientations` random ones) are the orientations asked about."""
+    3x3 each; None: `orientations` random ones) are the orientations asked about. A placement is
+    also tried from `postures` more starts, the finger's joints drawn within their limits (seeded):
+    the finger's redundant joint gives a tip many postures, and the first found may touch where
+    another clears."""
     sdf = object_sdf(obj)
     fingers = sorted({j.child[:-len("_tip")] for j in hand.joints if j.child.endswith("_tip")})
     chains = {f: FingerChain(hand, f) for f in fingers}
@@ -249,8 +254,11 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
     if rotations is None:
         rng = np.random.default_rng(seed)
         rotations = [random_rotation(rng) for _ in range(orientations)]
+    rng_postures = np.random.default_rng(seed + 1)
+    starts = {f: [home_q[f]] + [rng_postures.uniform(chains[f].lower, chains[f].upper)
+                                for _ in range(postures)] for f in fingers}
     room = Room(orientations=len(rotations), by_finger={f: 0 for f in fingers},
-                deviation_rad=deviation, margin_m=margin)
+                deviation_rad=deviation, margin_m=margin, postures=postures)
     for rot in rotations:
         in_object = lambda pts: (pts - centre) @ rot  # noqa: E731  (palm -> object frame)
         if len(palm_points) and (sdf(in_object(palm_points)) < margin).any():
@@ -266,18 +274,21 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
                 distance, normal = surface_along(sdf, along)
                 target = centre + rot @ (distance * along / np.linalg.norm(along) +
                                          tip_radius * normal)
-                q, residual = chains[f].place(home_q[f], target)
-                if residual > 1e-3:
-                    continue
-                blocking = [link for link, pts in chains[f].link_points(q).items()
-                            if (sdf(in_object(pts)) < margin).any()]
-                if k == 0:  # the home direction
-                    for link in blocking:
-                        room.at_home_blocked_by[link] = room.at_home_blocked_by.get(link, 0) + 1
-                if blocking:
-                    continue
-                found = True
-                break
+                for n, start in enumerate(starts[f]):
+                    q, residual = chains[f].place(start, target)
+                    if residual > 1e-3:
+                        continue
+                    blocking = [link for link, pts in chains[f].link_points(q).items()
+                                if (sdf(in_object(pts)) < margin).any()]
+                    if k == 0 and n == 0:  # the home direction, from the home posture
+                        for link in blocking:
+                            room.at_home_blocked_by[link] = (
+                                room.at_home_blocked_by.get(link, 0) + 1)
+                    if not blocking:
+                        found = True
+                        break
+                if found:
+                    break
             room.by_finger[f] += found
             every = every and found
             if not found:
@@ -289,7 +300,7 @@ def grasp_room(hand, joints, centre, obj, tip_radius, deviation=0.35, margin=0.0
 
 # --- From a recorded run. -------------------------------------------------------------------
 
-def from_log(log, deviation, margin, orientations, seed, turn=None):
+def from_log(log, deviation, margin, orientations, seed, turn=None, postures=0):
     """The room of the run's home grasp (grasp_room); `turn` (axis, angle rad): along that turn
     from the object's orientation then, instead of random orientations."""
     log = Path(log)
@@ -324,7 +335,8 @@ def from_log(log, deviation, margin, orientations, seed, turn=None):
                 for s in shapes if s.kind == "sphere"), 0.012)
     try:
         room = grasp_room(hand, joints, centre, config.get("object", {}) or {}, tip,
-                          deviation, margin, orientations, seed, rotations=rotations)
+                          deviation, margin, orientations, seed, rotations=rotations,
+                          postures=postures)
     except (TypeError, ValueError) as e:  # a value of the object section that is not a number
         raise RoomError(f"the run's object section in '{config_path}': {e}") from None
     room.angles_rad = [float(a) for a in angles]
@@ -382,25 +394,31 @@ def main(argv=None):
     p.add_argument("--turn", metavar="AXIS[:ANGLE]",
                    help="the orientations of a turn about the palm's x, y or z (ANGLE rad, "
                         "default pi) from the object's orientation then, not random ones")
+    p.add_argument("--postures", type=int, default=0,
+                   help="each placement also tried from this many more postures of the finger "
+                        "(its joints drawn within their limits): room the run's posture misses")
     p.add_argument("--json", help="write the result here")
     a = p.parse_args(argv)
     if a.orientations is None:
         a.orientations = 37 if a.turn else 200
-    if a.deviation < 0 or a.deviation > 1.5 or a.orientations < 1:
-        p.error("--deviation must lie in [0, 1.5] and --orientations be at least 1")
+    if a.deviation < 0 or a.deviation > 1.5 or a.orientations < 1 or a.postures < 0:
+        p.error("--deviation must lie in [0, 1.5], --orientations be at least 1 and --postures "
+                "at least 0")
     try:
         turn = parse_turn(a.turn) if a.turn else None
     except ValueError as e:
         p.error(str(e))
     try:
-        room = from_log(a.log, a.deviation, a.margin_mm / 1000.0, a.orientations, a.seed, turn)
+        room = from_log(a.log, a.deviation, a.margin_mm / 1000.0, a.orientations, a.seed, turn,
+                        a.postures)
     except RoomError as e:
         print(f"grasp-room: {e}", file=sys.stderr)
         return 2
     n = room.orientations
     print(f"{room.held} of {n} orientations ({100.0 * room.held / n:.0f} %) leave every finger a "
           f"tip placement within {room.deviation_rad:.2f} rad of its home with its links at "
-          f"least {1000 * room.margin_m:.1f} mm off the object")
+          f"least {1000 * room.margin_m:.1f} mm off the object" +
+          (f" (from the run's posture or {room.postures} more)" if room.postures else ""))
     print("per finger: " + ", ".join(f"{f} {k}" for f, k in room.by_finger.items()) +
           f"; the palm in the object: {room.palm_in_object}")
     blocked = sorted(room.at_home_blocked_by.items(), key=lambda item: -item[1])
