@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "components/ik/finger_ik.h"
+#include "components/runtime/check.h"
 #include "supervisor/link_clearance.h"
 
 namespace dmpl {
@@ -252,6 +253,17 @@ ContactChoice ContactChooser::Choose(const ContactRequest& request, const Contro
   }
   Select(request, &choice);
   return choice;
+}
+
+ContactCandidate ContactChooser::AtPoint(const ContactRequest& request,
+                                         const ControllerView& view,
+                                         const SurfaceModel& surface) const {
+  std::vector<ContactCandidate> candidates = Candidates(request, view, surface);
+  DMPL_DEMAND(!candidates.empty());  // a point at the object's centre: no direction to it
+  ContactCandidate& c = candidates.front();
+  Assess(request.finger, PostureNow(kin_->finger(request.finger), view.fingers[request.finger]),
+         request, view, surface, &c);
+  return c;
 }
 
 void ContactChooser::Select(const ContactRequest& request, ContactChoice* out) const {

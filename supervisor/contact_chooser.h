@@ -83,6 +83,10 @@ class ContactChooser {
 
   ContactChoice Choose(const ContactRequest& request, const ControllerView& view,
                        const SurfaceModel& surface) const;
+  // The request's own point alone, assessed as Choose assesses it (reach, link clearance there
+  // and after the ride; spacing and support left at their defaults).
+  ContactCandidate AtPoint(const ContactRequest& request, const ControllerView& view,
+                           const SurfaceModel& surface) const;
   // The largest part of `step` (rad, signed) about `axis` through the object's centre, in
   // quarters, that takes no finger in contact but `skip` (-1: none) with its links into the
   // felt surface: further in than the tolerance, or than it stands now if it is already in.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "components/runtime/check.h"
+#include "supervisor/face_surface.h"
 
 namespace dmpl {
 
@@ -79,6 +80,7 @@ const SupervisorOutput& Supervisor::Step(const ControllerView& view) {
   if (grasp_.is(GraspState::ObjectHeld)) grasp_.Process(GraspEvent::Start);
   OnControllerEvents(view.events);
   TickGraspChart();
+  AskFacing();
   if (grasp_.state() != before) board_.out.changed = true;
   if (board_.out.changed) last_action_ = gait_.chart().last_action();
   return board_.out;
@@ -230,6 +232,16 @@ bool Supervisor::CheckLinkRest() {
     }
   }
   return false;
+}
+
+void Supervisor::AskFacing() {
+  if (!task_params_.face_surface.enabled || chooser_ == nullptr || board_.tip_radius_m <= 0 ||
+      board_.out.task.task_id == facing_task_id_) {
+    return;
+  }
+  facing_task_id_ = board_.out.task.task_id;
+  AskToFaceSurface(*chooser_, task_params_.face_surface, board_.view, board_.surface,
+                   board_.tip_radius_m, &board_.out.task);
 }
 
 bool Supervisor::GaitUnderWay() const {

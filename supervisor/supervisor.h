@@ -97,6 +97,9 @@ class Supervisor {
   const CTask& task() const { return tasks_.tasks[task_index_]; }
   bool CheckLinkRest();  // a grip finger on its link too long: recover (true)
   bool GaitUnderWay() const;
+  // task.face_surface: on each new task, which touching fingers the hand model puts with a link
+  // near the felt surface, each asked to turn its tip's front toward it.
+  void AskFacing();
 
   std::shared_ptr<const ContactChooser> chooser_;  // before the gait that points at it
   TaskFile tasks_;
@@ -112,6 +115,7 @@ class Supervisor {
   std::vector<int> extensions_;   // approach: how often each finger reached further in
   double stable_at_ = -1.0;       // the grasp was stable (the release is timed from it)
   int task_index_ = -1;
+  int32_t facing_task_id_ = 0;    // the task AskFacing last looked at
   int recoveries_ = 0;
   // Recoveries that count against supervisor.max_recoveries: since the start, or since the last
   // goal orientation reached (a goal reached after them is progress, not a grasp going bad).

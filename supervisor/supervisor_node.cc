@@ -200,7 +200,7 @@ struct Loaded {
   TaskFile tasks;
   TaskParams task_params;
   SupervisorParams params;
-  // task.contact_choice.enabled, task.explorer_support.check_ride or
+  // task.contact_choice.enabled, task.explorer_support.check_ride, task.face_surface.enabled or
   // supervisor.replace_on_felt_surface
   std::shared_ptr<const ContactChooser> chooser;
 };
@@ -221,7 +221,7 @@ Loaded Load(const Config& config) {
   }
   l.tasks = LoadTaskFile(ResolveProjectPath(l.task_params.file), l.fingers);
   if (l.task_params.contact_choice.enabled || l.task_params.explorer_support.check_ride ||
-      l.params.replace_on_felt_surface) {
+      l.task_params.face_surface.enabled || l.params.replace_on_felt_surface) {
     l.chooser = std::make_shared<const ContactChooser>(
         HandModel::Load(hand), l.task_params.contact_choice, l.task_params.support.Limits());
   }

@@ -128,6 +128,24 @@ struct StruckFingerParams {
   }
 };
 
+// task.face_surface: a touching finger whose links the hand model puts within clearance_m of the
+// felt surface (a grip finger where it stands, the explorer where it is going: ContactChooser)
+// is asked to turn its tip's front toward the surface (FingerTask::face_surface; the IK's
+// redundancy, ik.approach_gain), asked again at each new task. On a cube's side faces the fore
+// and ring fingers touch with the sides of their tips, their links 2.5-3.1 mm off; on the 2.5 cm
+// sphere 4.2-4.6 mm (the hand model on a surface felt all round). Off: the controller's own rule
+// (controller.tip_front_explorer, tip_front_grip_fingers).
+struct FaceSurfaceParams {
+  bool enabled = false;
+  double clearance_m = 0.0035;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(enabled));
+    a->Visit(DMPL_NVP(clearance_m), InRange(-0.01, 0.05));
+  }
+};
+
 // task.edge_hop: an explorer whose way to its point crosses an edge the fingertips have felt
 // (edge_hop.h) steps over it instead of sliding round it: it eases to the explorer's force where
 // it stands (ease_s), is lifted lift_m off along the line from the centre, moved to lift_m over
@@ -210,6 +228,7 @@ struct TaskParams {
   StruckFingerParams struck_fingers;
   EdgeHopParams edge_hop;
   FaceBoundsParams face_bounds;
+  FaceSurfaceParams face_surface;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -240,6 +259,7 @@ struct TaskParams {
     a->Visit(DMPL_NVP(struck_fingers));
     a->Visit(DMPL_NVP(edge_hop));
     a->Visit(DMPL_NVP(face_bounds));
+    a->Visit(DMPL_NVP(face_surface));
   }
   void Validate(const std::string& source) const;
   bool has_goals() const;  // a gait toward goal orientations

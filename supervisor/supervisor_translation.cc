@@ -109,6 +109,7 @@ task_cmd_t ToTaskMessage(const TaskInput& t, const std::vector<std::string>& fin
     p.has_target = t.fingers[f].has_target;
     for (int i = 0; i < 3; ++i) p.target_position[i] = t.fingers[f].target[i];
     p.force_n = t.fingers[f].force_n;
+    p.face_surface = t.fingers[f].face_surface;
     m.fingers.push_back(p);
   }
   m.num_fingers = static_cast<int8_t>(m.fingers.size());

@@ -151,6 +151,9 @@ struct ControllerParams {
   // contact (a grip finger that changes its posture or its contact unsettles the grasp: measured,
   // the initial grasp of long cylinders and capsules and under 3 ticks of sensing delay).
   bool tip_front_grip_fingers = false;
+  // Whether an exploring finger turns its tip toward the object whether or not it is asked to
+  // (FingerTask::face_surface); false: only the fingers the supervisor asks.
+  bool tip_front_explorer = true;
   int contact_debounce_ticks = 5;        // a new contact must persist this long...
   int contact_loss_ticks = 40;           // ...a loss this long (rolling contacts flicker)
   double motion_done_rad = 0.01;         // estimate within this of the goal: motion done
@@ -205,6 +208,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(tip_contact_max_angle_rad), InRange(0.0, 3.141592653589793));
     a->Visit(DMPL_NVP(tip_contact_slide_speed), AtLeast(0));
     a->Visit(DMPL_NVP(tip_front_grip_fingers));
+    a->Visit(DMPL_NVP(tip_front_explorer));
     a->Visit(DMPL_NVP(contact_debounce_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(contact_loss_ticks), AtLeast(1));
     a->Visit(DMPL_NVP(motion_done_rad));

@@ -44,6 +44,7 @@ TaskInput ToTaskInput(const task_cmd_t& m, const HandKinematics& kin,
     ft.has_target = fp.has_target;
     ft.target = ToVector3(fp.target_position);
     ft.force_n = fp.force_n;
+    ft.face_surface = fp.face_surface;
   }
   return t;
 }

@@ -36,6 +36,9 @@ struct FingerTask {
   bool has_target = false;
   Eigen::Vector3d target = Eigen::Vector3d::Zero();
   double force_n = 0.0;  // <= 0: the controller's default for the role
+  // Touching, its tip's front turned toward the surface (the IK's redundancy, ik.approach_gain):
+  // asked by the supervisor of a finger whose links come near the felt surface.
+  bool face_surface = false;
 };
 
 struct TaskInput {

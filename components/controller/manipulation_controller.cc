@@ -383,16 +383,19 @@ SensedInput ManipulationController::UndoTactileCalibration(const SensedInput& ra
   return in;
 }
 
-// A finger that touches: its tip should point into the object at its contact (the IK turns
-// the tip's axis that way with its redundancy), so that it presses with its front and not with
-// the side beside its distal link.
+// A finger that touches and is asked to (by the supervisor: FingerTask::face_surface; an
+// explorer by tip_front_explorer; every grip finger by tip_front_grip_fingers): its tip should
+// point into the object at its contact (the IK turns the tip's axis that way with its
+// redundancy), so that it presses with its front and not with the side beside its distal link.
 Eigen::Vector3d ManipulationController::TipApproach(int f, const Eigen::Vector3d& contact,
                                                     const Eigen::Vector3d& tip) const {
   const FingerState& s = fingers_[f];
   const bool exploring = s.task.primitive == Primitive::kHybrid;
   const Eigen::Vector3d into = contact - tip;
   const double distance = into.norm();
-  if (!s.contact || !(exploring || params_.tip_front_grip_fingers) || !(distance > 1e-3)) {
+  const bool asked = s.task.face_surface || params_.tip_front_grip_fingers ||
+                     (exploring && params_.tip_front_explorer);
+  if (!s.contact || !asked || !(distance > 1e-3)) {
     return Eigen::Vector3d::Zero();
   }
   return into / distance;

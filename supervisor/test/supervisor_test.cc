@@ -896,6 +896,9 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
   EXPECT_NE(error([](TaskParams* t) { t->face_bounds.min_angle_rad = 0; })
                 .find("key 'task.face_bounds.min_angle_rad'"),
             std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->face_surface.clearance_m = 0.1; })
+                .find("key 'task.face_surface.clearance_m'"),
+            std::string::npos);
   EXPECT_EQ(error([](TaskParams*) {}), "");
 }
 

@@ -122,6 +122,42 @@ TEST(ManipulationControllerTest, CompositeGripReachesThePlannedForcesAndReportsS
   EXPECT_TRUE(out.grasp_stable);
 }
 
+// The supervisor asks a finger to turn its tip's front toward the surface (face_surface): the
+// IK gets the direction into the object at its contact (from the tip's centre through its
+// contact point); a finger not asked gets none. An explorer gets one unasked only while
+// controller.tip_front_explorer says so.
+TEST(ManipulationControllerTest, AFingerAskedToFaceTheSurfaceGetsItsApproach) {
+  for (const bool explorer_unasked : {true, false}) {
+    Fixture fx;
+    ControllerParams params;
+    params.tip_front_explorer = explorer_unasked;
+    ManipulationController ctl(fx.kin, params, 1e-3);
+    SpherePlant plant(fx.kin, fx.centre, 0.025, 300.0);
+    SensedInput in = fx.Input(0);
+    std::vector<Eigen::Vector3d> tips;
+    for (int f = 0; f < 4; ++f) tips.push_back(fx.kin.TipPosition(f, fx.q));
+    plant.Apply(tips, &fx.q, &in);
+    TaskInput task = fx.Grip(/*explore_finger=*/2);
+    task.fingers[1].face_surface = true;  // F, a grip finger
+    for (int k = 0; k < 300; ++k) {
+      in.seq = k;
+      in.time_s = k * 1e-3;
+      const ControllerOutput& out = ctl.Step(in, task);
+      std::vector<Eigen::Vector3d> targets;
+      for (const auto& f : out.fingers) targets.push_back(f.target);
+      plant.Apply(targets, &fx.q, &in);
+    }
+    const ControllerOutput& out = ctl.output();
+    for (int f = 0; f < 4; ++f) ASSERT_TRUE(out.fingers[f].in_contact) << f;
+    // On the plant's sphere the direction into the contact is the one to its centre.
+    const Eigen::Vector3d to_centre = (fx.centre - out.fingers[1].tip).normalized();
+    EXPECT_NEAR(out.fingers[1].approach.norm(), 1.0, 1e-9);
+    EXPECT_GT(out.fingers[1].approach.dot(to_centre), 0.99);
+    EXPECT_TRUE(out.fingers[3].approach.isZero()) << "R, not asked";
+    EXPECT_EQ(out.fingers[2].approach.isZero(), !explorer_unasked) << "M, exploring";
+  }
+}
+
 TEST(ManipulationControllerTest, ALinkContactIsReportedWhenItBeginsAndWhenItEnds) {
   Fixture fx;
   ManipulationController ctl(fx.kin, ControllerParams{}, 1e-3);

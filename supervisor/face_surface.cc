@@ -1,0 +1,29 @@
+#include "supervisor/face_surface.h"
+
+#include <limits>
+
+namespace dmpl {
+
+void AskToFaceSurface(const ContactChooser& chooser, const FaceSurfaceParams& params,
+                      const ControllerView& view, const SurfaceModel& surface,
+                      double tip_radius_m, TaskInput* task) {
+  for (int f = 0; f < static_cast<int>(task->fingers.size()); ++f) {
+    FingerTask& t = task->fingers[f];
+    t.face_surface = false;
+    if (!view.fingers[f].SensesPoint()) continue;
+    double clearance = std::numeric_limits<double>::infinity();
+    if (t.role == Role::kExplore && t.has_target) {
+      ContactRequest request;  // where it lands, no ride
+      request.finger = f;
+      request.point = t.target;
+      request.tip_radius_m = tip_radius_m;
+      clearance = chooser.AtPoint(request, view, surface).link_clearance_m;
+    } else if (t.role == Role::kGrip) {
+      // Where it stands: a ride of no turn.
+      clearance = chooser.Ride(f, Eigen::Vector3d::UnitX(), 0.0, view, surface).link_clearance_m;
+    }
+    t.face_surface = clearance < params.clearance_m;
+  }
+}
+
+}  // namespace dmpl
