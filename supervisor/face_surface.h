@@ -15,8 +15,9 @@
 namespace dmpl {
 
 // Sets each finger's FingerTask::face_surface in `task`: a finger that senses its contact point
-// (FingerView::SensesPoint), gripping or exploring toward a target, whose links the chooser's
-// hand model puts less than params.clearance_m off the felt surface. The others: false.
+// (FingerView::SensesPoint), gripping (params.grip_fingers) or exploring toward a target, whose
+// links the chooser's hand model puts less than params.clearance_m off the felt surface. The
+// others: false.
 void AskToFaceSurface(const ContactChooser& chooser, const FaceSurfaceParams& params,
                       const ControllerView& view, const SurfaceModel& surface,
                       double tip_radius_m, TaskInput* task);

@@ -138,11 +138,13 @@ struct StruckFingerParams {
 struct FaceSurfaceParams {
   bool enabled = false;
   double clearance_m = 0.0035;
+  bool grip_fingers = true;  // false: the explorer only (a grip finger's posture stays as it is)
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(enabled));
     a->Visit(DMPL_NVP(clearance_m), InRange(-0.01, 0.05));
+    a->Visit(DMPL_NVP(grip_fingers));
   }
 };
 

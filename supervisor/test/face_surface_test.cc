@@ -112,6 +112,12 @@ TEST(FaceSurfaceTest, OnACubeTheFingersAtItsSidesAreAsked) {
   EXPECT_FALSE(task.fingers[kF].face_surface);
   EXPECT_TRUE(task.fingers[kR].face_surface) << "exploring toward the middle of its face";
 
+  // Grip fingers left alone: only the explorer is asked.
+  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0035, false}, view, surface, kTipRadius,
+                   &task);
+  for (int f : {kT, kF, kM}) EXPECT_FALSE(task.fingers[f].face_surface) << f;
+  EXPECT_TRUE(task.fingers[kR].face_surface);
+
   // Asked for less room than the links have, nobody is.
   AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0}, view, surface, kTipRadius, &task);
   for (int f = 0; f < 4; ++f) EXPECT_FALSE(task.fingers[f].face_surface) << f;
