@@ -70,7 +70,7 @@ ContactChooser MakeChooser(const HandModel& model) {
 }
 
 // R's home 0.9 rad about the palm's normal from where it stood: over it the hand model puts its
-// links several millimetres into the felt sphere. Placed on the felt surface, it goes over a
+// links more than 2 mm into the felt sphere. Placed on the felt surface, it goes over a
 // point of the sphere where they stay clear (asked again there, the chooser keeps it), a tip's
 // radius and the lift off the surface; without the option, over its home.
 TEST(FingerReplacerTest, AFingerPlacedOnTheFeltSurfaceGoesWhereItsLinksStayClear) {

@@ -100,7 +100,6 @@ class RoomTest(unittest.TestCase):
         # Within 0.6 rad of the homes a placement with every link clear exists almost always.
         self.assertGreaterEqual(self.room(cube, 0.025, 0.6).held, 40 * 0.9)
 
-
     def test_other_postures_of_a_finger_add_under_a_millimetre_on_a_face(self):
         # At the homes the fore and ring fingers touch the cube's side faces 82-85 deg round their
         # tips; their distal links' sides stand 2.5-3 mm off the face in the posture the grasp
