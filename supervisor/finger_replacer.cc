@@ -116,10 +116,13 @@ void FingerReplacer::MoveOverHome(int f) {
   if (felt.Differs(out - board_->tip_radius_m)) {
     out = std::max(out, felt.distance_m + board_->tip_radius_m);
   }
-  Eigen::Vector3d tip = board_->view.object.translation() + direction * out;
-  Eigen::Vector3d away = direction;
-  ChooseOnFeltSurface(f, &tip, &away);
-  const Eigen::Vector3d target = tip + away * params_.replace_lift_m;
+  // Summed as before, to the last bit: without the option a recovery is the one of before.
+  const Eigen::Vector3d centre = board_->view.object.translation();
+  Eigen::Vector3d target = centre + direction * (out + params_.replace_lift_m);
+  Eigen::Vector3d tip, away;
+  if (ChooseOnFeltSurface(f, centre + direction * out, &tip, &away)) {
+    target = tip + away * params_.replace_lift_m;
+  }
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &target);
   board_->reached[f] = false;
   stage_[f] = Stage::kOver;
@@ -135,17 +138,18 @@ Eigen::Vector3d FingerReplacer::PlacementDirection(int f) const {
   return Eigen::AngleAxisd(shift_[f], d.cross(back).normalized()) * d;
 }
 
-void FingerReplacer::ChooseOnFeltSurface(int f, Eigen::Vector3d* tip, Eigen::Vector3d* away) {
+bool FingerReplacer::ChooseOnFeltSurface(int f, const Eigen::Vector3d& planned,
+                                         Eigen::Vector3d* tip, Eigen::Vector3d* away) {
   if (chooser_ == nullptr || !params_.replace_on_felt_surface || board_->tip_radius_m <= 0) {
-    return;
+    return false;
   }
   ContactRequest request;  // no ride: it grips where it lands, and the object is held still
   request.finger = f;
-  request.point = *tip;
+  request.point = planned;
   request.tip_radius_m = board_->tip_radius_m;
   request.min_spacing_m = min_spacing_m_;
   const ContactChoice choice = chooser_->Choose(request, board_->view, board_->surface);
-  if (choice.index == 0) return;
+  if (choice.index == 0) return false;
   const ContactCandidate& c = choice.chosen();
   *tip = c.tip;
   *away = c.outward;
@@ -153,6 +157,7 @@ void FingerReplacer::ChooseOnFeltSurface(int f, Eigen::Vector3d* tip, Eigen::Vec
                " rad from its point (" + choice.why + ": links " +
                Fixed(1e3 * c.link_clearance_m, 1) + " mm off; there " +
                Fixed(1e3 * choice.candidates[0].link_clearance_m, 1) + " mm)");
+  return true;
 }
 
 void FingerReplacer::BringIn(int f) {

@@ -44,9 +44,11 @@ class FingerReplacer {
   void MoveOverHome(int f);
   // Its home's direction from the object's centre, turned toward its base by shift_[f].
   Eigen::Vector3d PlacementDirection(int f) const;
-  // Its tip's target `tip` on the surface and the way out from there, `away` (unit), moved to
-  // the chooser's point on the felt surface where it finds one better (replace_on_felt_surface).
-  void ChooseOnFeltSurface(int f, Eigen::Vector3d* tip, Eigen::Vector3d* away);
+  // The chooser's point on the felt surface in place of the `planned` tip target
+  // (replace_on_felt_surface): true, with its tip target and the way out from there (`away`,
+  // unit), where it finds one better; false where the planned point stays.
+  bool ChooseOnFeltSurface(int f, const Eigen::Vector3d& planned, Eigen::Vector3d* tip,
+                           Eigen::Vector3d* away);
   void BringIn(int f);
 
   Blackboard* board_;
