@@ -9,6 +9,7 @@
 #include "components/ik/finger_ik.h"
 #include "supervisor/contact_chooser.h"
 #include "supervisor/link_clearance.h"
+#include "supervisor/test/felt_objects.h"
 
 namespace dmpl {
 namespace {
@@ -24,32 +25,22 @@ struct Grasp {
 // The nominal sphere (kRadius) felt all round (a Fibonacci lattice of contacts), held as the
 // gait holds it (fig10_gait_sphere at 2 s: the tips about the palm's x axis, the thumb T below,
 // the middle finger M above), each tip kTipRadius off the surface.
-const Eigen::Vector3d kCentre(0.071, 0.002, 0.018);
-const Eigen::Vector3d kTips[] = {{0.0715, 0.0163, -0.0162}, {0.0705, 0.0376, 0.0323},
-                                 {0.0698, 0.0041, 0.0554}, {0.0708, -0.0336, 0.0194}};
-const Eigen::Vector3d kTipAxes[] = {{0.024, -0.730, 0.683}, {0.319, -0.122, -0.940},
-                                    {0.643, 0.038, -0.765}, {0.148, 0.110, -0.983}};
+const Eigen::Vector3d& kCentre = testing::kGaitCentre;
 
 Grasp SphereGrasp() {
   Grasp g;
   g.view.object.translation() = kCentre;
   for (int f = 0; f < 4; ++f) {
-    const Eigen::Vector3d d = (kTips[f] - kCentre).normalized();
+    const Eigen::Vector3d d = (testing::kGaitTips[f] - kCentre).normalized();
     FingerView v;
-    v.tip_axis = kTipAxes[f].normalized();
+    v.tip_axis = testing::kGaitTipAxes[f].normalized();
     v.in_contact = true;
     v.force = 1.0;
     v.tip = kCentre + (kRadius + kTipRadius) * d;
     v.contact = kCentre + kRadius * d;
     g.view.fingers.push_back(v);
   }
-  const int n = 800;
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z);
-    const double phi = i * M_PI * (3.0 - std::sqrt(5.0));
-    const Eigen::Vector3d d(r * std::cos(phi), r * std::sin(phi), z);
-    g.surface.Add(g.view.object, kCentre + kRadius * d, d, 0.001 * i);
-  }
+  g.surface = testing::FeltSphere(g.view.object, kRadius, 800);
   return g;
 }
 

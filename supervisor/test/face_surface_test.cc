@@ -7,6 +7,7 @@
 
 #include "components/hand/testing/project_hand.h"
 #include "supervisor/face_surface.h"
+#include "supervisor/test/felt_objects.h"
 
 namespace dmpl {
 namespace {
@@ -20,13 +21,11 @@ constexpr int kT = 0, kF = 1, kM = 2, kR = 3;
 ControllerView Held(const Eigen::Vector3d& centre, double half_width) {
   const Eigen::Vector3d directions[] = {-Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(),
                                         Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitY()};
-  const Eigen::Vector3d axes[] = {{0.024, -0.730, 0.683}, {0.319, -0.122, -0.940},
-                                  {0.643, 0.038, -0.765}, {0.148, 0.110, -0.983}};
   ControllerView view;
   view.object.translation() = centre;
   for (int f = 0; f < 4; ++f) {
     FingerView v;
-    v.tip_axis = axes[f].normalized();
+    v.tip_axis = testing::kGaitTipAxes[f].normalized();
     v.in_contact = true;
     v.force = 1.0;
     v.contact = centre + half_width * directions[f];
@@ -34,18 +33,6 @@ ControllerView Held(const Eigen::Vector3d& centre, double half_width) {
     view.fingers.push_back(v);
   }
   return view;
-}
-
-SurfaceModel FeltSphere(const ControllerView& view, double radius) {
-  SurfaceModel surface;
-  const int n = 800;
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z);
-    const double phi = i * M_PI * (3.0 - std::sqrt(5.0));
-    const Eigen::Vector3d d(r * std::cos(phi), r * std::sin(phi), z);
-    surface.Add(view.object, view.object.translation() + radius * d, d, 0.001 * i);
-  }
-  return surface;
 }
 
 // Each face of a cube of half width `half` felt on a 2 mm grid.
@@ -83,7 +70,7 @@ TEST(FaceSurfaceTest, OnASphereNoFingerIsAsked) {
   const HandModel model = testing::LoadHand();
   const ContactChooser chooser = MakeChooser(model);
   const ControllerView view = Held({0.071, 0.002, 0.018}, 0.025);
-  const SurfaceModel surface = FeltSphere(view, 0.025);
+  const SurfaceModel surface = testing::FeltSphere(view.object, 0.025, 800);
   TaskInput task = AllGrip();
   task.fingers[kM].face_surface = true;  // left over from the last task
   AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0035}, view, surface, kTipRadius, &task);

@@ -7,6 +7,7 @@
 
 #include "components/hand/testing/project_hand.h"
 #include "supervisor/finger_replacer.h"
+#include "supervisor/test/felt_objects.h"
 
 namespace dmpl {
 namespace {
@@ -19,11 +20,7 @@ constexpr int kRing = 3;
 // (fig10_gait_sphere at 2 s), the ring finger R's contact lost; its home (where it stood when the
 // tasks began) lies `home_turn` rad about the palm's normal from where it stood.
 Blackboard SphereHeldWithoutR(double home_turn) {
-  const Eigen::Vector3d centre(0.071, 0.002, 0.018);
-  const Eigen::Vector3d tips[] = {{0.0715, 0.0163, -0.0162}, {0.0705, 0.0376, 0.0323},
-                                  {0.0698, 0.0041, 0.0554}, {0.0708, -0.0336, 0.0194}};
-  const Eigen::Vector3d axes[] = {{0.024, -0.730, 0.683}, {0.319, -0.122, -0.940},
-                                  {0.643, 0.038, -0.765}, {0.148, 0.110, -0.983}};
+  const Eigen::Vector3d& centre = testing::kGaitCentre;
   Blackboard board({"T", "F", "M", "R"});
   board.view.object.translation() = centre;
   board.home_centre = centre;
@@ -31,9 +28,9 @@ Blackboard SphereHeldWithoutR(double home_turn) {
   board.view.fingers.resize(4);
   board.home.resize(4);
   for (int f = 0; f < 4; ++f) {
-    const Eigen::Vector3d d = (tips[f] - centre).normalized();
+    const Eigen::Vector3d d = (testing::kGaitTips[f] - centre).normalized();
     FingerView& v = board.view.fingers[f];
-    v.tip_axis = axes[f].normalized();
+    v.tip_axis = testing::kGaitTipAxes[f].normalized();
     v.in_contact = f != kRing;
     v.force = v.in_contact ? 1.0 : 0.0;
     v.tip = centre + (kRadius + kTipRadius) * d;
@@ -42,13 +39,7 @@ Blackboard SphereHeldWithoutR(double home_turn) {
   }
   board.home[kRing] = centre + Eigen::AngleAxisd(home_turn, Eigen::Vector3d::UnitX()) *
                                    (board.home[kRing] - centre);
-  const int n = 800;
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z);
-    const double phi = i * M_PI * (3.0 - std::sqrt(5.0));
-    const Eigen::Vector3d d(r * std::cos(phi), r * std::sin(phi), z);
-    board.surface.Add(board.view.object, centre + kRadius * d, d, 0.001 * i);
-  }
+  board.surface = testing::FeltSphere(board.view.object, kRadius, 800);
   return board;
 }
 
@@ -61,6 +52,12 @@ Eigen::Vector3d PointOver(Blackboard* board, FingerReplacer* replacer) {
   board->now += 0.01;
   replacer->Tick(0.0);
   return board->out.task.fingers[kRing].target;
+}
+
+// Over R's home by the lift, out from the centre: where a finger placed as planned goes.
+Eigen::Vector3d OverHome(const Blackboard& board, double lift) {
+  const Eigen::Vector3d& home = board.home[kRing];
+  return home + lift * (home - board.view.object.translation()).normalized();
 }
 
 ContactChooser MakeChooser(const HandModel& model) {
@@ -104,8 +101,7 @@ TEST(FingerReplacerTest, AFingerPlacedOnTheFeltSurfaceGoesWhereItsLinksStayClear
   SupervisorParams off;
   Blackboard plain = SphereHeldWithoutR(0.9);
   FingerReplacer as_planned(&plain, off, &chooser, 0.026);
-  const Eigen::Vector3d over_home = PointOver(&plain, &as_planned);
-  EXPECT_LT((over_home - (home + params.replace_lift_m * (home - centre).normalized())).norm(),
+  EXPECT_LT((PointOver(&plain, &as_planned) - OverHome(plain, params.replace_lift_m)).norm(),
             1e-9);
 }
 
@@ -116,11 +112,8 @@ TEST(FingerReplacerTest, AFingerWhoseHomeIsClearGoesOverItsHome) {
   SupervisorParams params;
   params.replace_on_felt_surface = true;
   Blackboard board = SphereHeldWithoutR(0.0);
-  const Eigen::Vector3d centre = board.view.object.translation();
-  const Eigen::Vector3d home = board.home[kRing];
   FingerReplacer replacer(&board, params, &chooser, 0.026);
-  const Eigen::Vector3d over = PointOver(&board, &replacer);
-  EXPECT_LT((over - (home + params.replace_lift_m * (home - centre).normalized())).norm(), 1e-9);
+  EXPECT_LT((PointOver(&board, &replacer) - OverHome(board, params.replace_lift_m)).norm(), 1e-9);
   EXPECT_EQ(board.note.find("placing finger R again at"), std::string::npos) << board.note;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "supervisor/link_clearance.h"
+#include "supervisor/test/felt_objects.h"
 
 namespace dmpl {
 namespace {
@@ -18,19 +19,10 @@ Eigen::Isometry3d ObjectPose() {
   return pose;
 }
 
-// Contacts all over a sphere of kRadius (a Fibonacci lattice), or only where x > `min_x` in
-// the object's frame; taken with the object at `pose`.
+// Contacts all over a sphere of kRadius, or only where x > `min_x` in the object's frame; taken
+// with the object at `pose`.
 SurfaceModel FeltSphere(const Eigen::Isometry3d& pose, double min_x = -1.0) {
-  SurfaceModel model;
-  const int n = 600;
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - z * z);
-    const double phi = i * M_PI * (3.0 - std::sqrt(5.0));
-    const Eigen::Vector3d d(r * std::cos(phi), r * std::sin(phi), z);
-    if (d.x() <= min_x) continue;
-    model.Add(pose, pose * (kRadius * d), pose.linear() * d, 0.001 * i);
-  }
-  return model;
+  return testing::FeltSphere(pose, kRadius, 600, min_x);
 }
 
 // A link (points every 1 mm along a 3 cm segment, and `radius`: a row of spheres) whose axis
