@@ -210,6 +210,11 @@ double ContactChooser::ClearStep(const Eigen::Vector3d& axis_in, double step, in
   return allowed;
 }
 
+double ContactChooser::LinkClearanceNow(int f, const ControllerView& view,
+                                        const SurfaceModel& surface) const {
+  return LinkClearance(f, PostureNow(kin_->finger(f), view.fingers[f]), surface, view.object);
+}
+
 RideMargins ContactChooser::Ride(int f, const Eigen::Vector3d& axis_in, double step,
                                  const ControllerView& view, const SurfaceModel& surface) const {
   const Eigen::Vector3d axis = axis_in.normalized();

@@ -93,6 +93,9 @@ class ContactChooser {
   // `blocking` (may be null): the finger that stops it, -1 when none does.
   double ClearStep(const Eigen::Vector3d& axis, double step, int skip, const ControllerView& view,
                    const SurfaceModel& surface, int* blocking) const;
+  // The least clearance of finger `f`'s links (not its tip) from the felt surface in the posture
+  // it holds now (m; infinite where the model knows nothing near them).
+  double LinkClearanceNow(int f, const ControllerView& view, const SurfaceModel& surface) const;
   // Finger `f` (in contact) riding a turn of `step` (rad, signed) about `axis` through the
   // object's centre, its tip turned with the object: its margins, the least over the turn
   // (sampled in quarters). Whether it can stay in the grip for that turn or must be placed again.

@@ -19,8 +19,7 @@ void AskToFaceSurface(const ContactChooser& chooser, const FaceSurfaceParams& pa
       request.tip_radius_m = tip_radius_m;
       clearance = chooser.AtPoint(request, view, surface).link_clearance_m;
     } else if (t.role == Role::kGrip && params.grip_fingers) {
-      // Where it stands: a ride of no turn.
-      clearance = chooser.Ride(f, Eigen::Vector3d::UnitX(), 0.0, view, surface).link_clearance_m;
+      clearance = chooser.LinkClearanceNow(f, view, surface);  // where it stands
     }
     t.face_surface = clearance < params.clearance_m;
   }
