@@ -64,6 +64,12 @@ std::optional<FlatFace> FlatFaceDetector::Add(double time_s, const Eigen::Vector
   return FlatFace{0.5 * (start_->point + point), start_->normal};
 }
 
+bool MeetsFlatFace(const Eigen::Vector3d& tip, const SurfaceModel& surface,
+                   const std::vector<FlatFace>& flat) {
+  const SurfaceContact* facing = FacingContact(tip, surface);
+  return facing != nullptr && FeltFlat(*facing, flat);
+}
+
 Eigen::Vector3d KeepInsideFace(const Eigen::Vector3d& tip, const SurfaceModel& surface,
                                const std::vector<FlatFace>& flat, const FaceBoundsParams& params,
                                double* moved_m) {

@@ -63,6 +63,11 @@ class FlatFaceDetector {
   std::optional<Start> start_;
 };
 
+// Whether a fingertip centred at `tip` (object frame) would touch one of the faces `flat`: the
+// felt tangent plane it lies furthest outside of is one of them (a sphere has none).
+bool MeetsFlatFace(const Eigen::Vector3d& tip, const SurfaceModel& surface,
+                   const std::vector<FlatFace>& flat);
+
 // The fingertip's centre `tip` (object frame) moved along the face it would touch until its
 // contact there lies at least params.margin_m from every felt tangent plane that bounds the face
 // (normals at least min_angle_rad apart); unchanged where none is nearer, or where the contact

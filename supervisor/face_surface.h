@@ -8,6 +8,7 @@
 // Pure: the hand model (through the chooser), the controller's view and the felt surface in.
 #include "components/controller/controller_types.h"
 #include "supervisor/contact_chooser.h"
+#include "supervisor/face_bounds.h"
 #include "supervisor/supervisor_params.h"
 #include "supervisor/supervisor_types.h"
 #include "supervisor/surface_model.h"
@@ -16,10 +17,11 @@ namespace dmpl {
 
 // Sets each finger's FingerTask::face_surface in `task`: a finger that senses its contact point
 // (FingerView::SensesPoint), gripping (params.grip_fingers) or exploring toward a target, whose
-// links the chooser's hand model puts less than params.clearance_m off the felt surface. The
-// others: false.
+// links the chooser's hand model puts less than params.clearance_m off the felt surface, and
+// with params.flat_faces_only whose tip (the explorer's at its target) meets one of the faces
+// `flat`. The others: false.
 void AskToFaceSurface(const ContactChooser& chooser, const FaceSurfaceParams& params,
                       const ControllerView& view, const SurfaceModel& surface,
-                      double tip_radius_m, TaskInput* task);
+                      const std::vector<FlatFace>& flat, double tip_radius_m, TaskInput* task);
 
 }  // namespace dmpl

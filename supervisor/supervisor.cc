@@ -241,7 +241,7 @@ void Supervisor::AskFacing() {
   }
   facing_task_id_ = board_.out.task.task_id;
   AskToFaceSurface(*chooser_, task_params_.face_surface, board_.view, board_.surface,
-                   board_.tip_radius_m, &board_.out.task);
+                   board_.flat_faces, board_.tip_radius_m, &board_.out.task);
 }
 
 bool Supervisor::GaitUnderWay() const {

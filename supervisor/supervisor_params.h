@@ -139,12 +139,17 @@ struct FaceSurfaceParams {
   bool enabled = false;
   double clearance_m = 0.0035;
   bool grip_fingers = true;  // false: the explorer only (a grip finger's posture stays as it is)
+  // Only a finger whose tip meets a face felt flat (face_bounds.h: a fingertip slid over it with
+  // its normal unturned): a sphere's felt surface, noisy by a millimetre, cannot tell 3 mm of
+  // room from 4, but its normal turns under a slide.
+  bool flat_faces_only = false;
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(enabled));
     a->Visit(DMPL_NVP(clearance_m), InRange(-0.01, 0.05));
     a->Visit(DMPL_NVP(grip_fingers));
+    a->Visit(DMPL_NVP(flat_faces_only));
   }
 };
 

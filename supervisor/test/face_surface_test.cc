@@ -73,7 +73,7 @@ TEST(FaceSurfaceTest, OnASphereNoFingerIsAsked) {
   const SurfaceModel surface = testing::FeltSphere(view.object, 0.025, 800);
   TaskInput task = AllGrip();
   task.fingers[kM].face_surface = true;  // left over from the last task
-  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0035}, view, surface, kTipRadius, &task);
+  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0035}, view, surface, {}, kTipRadius, &task);
   for (int f = 0; f < 4; ++f) EXPECT_FALSE(task.fingers[f].face_surface) << f;
 }
 
@@ -87,7 +87,7 @@ TEST(FaceSurfaceTest, OnACubeTheFingersAtItsSidesAreAsked) {
   ControllerView view = Held({0.071, 0.002, 0.018}, 0.025);
   const SurfaceModel surface = FeltCube(view, 0.025);
   TaskInput task = AllGrip();
-  AskToFaceSurface(chooser, params, view, surface, kTipRadius, &task);
+  AskToFaceSurface(chooser, params, view, surface, {}, kTipRadius, &task);
   EXPECT_FALSE(task.fingers[kT].face_surface);
   EXPECT_TRUE(task.fingers[kF].face_surface);
   EXPECT_FALSE(task.fingers[kM].face_surface);
@@ -95,19 +95,47 @@ TEST(FaceSurfaceTest, OnACubeTheFingersAtItsSidesAreAsked) {
 
   view.fingers[kF].force = 0.0;  // touching, its point not sensed yet
   task.fingers[kR] = {Role::kExplore, Primitive::kHybrid, true, view.fingers[kR].tip};
-  AskToFaceSurface(chooser, params, view, surface, kTipRadius, &task);
+  AskToFaceSurface(chooser, params, view, surface, {}, kTipRadius, &task);
   EXPECT_FALSE(task.fingers[kF].face_surface);
   EXPECT_TRUE(task.fingers[kR].face_surface) << "exploring toward the middle of its face";
 
   // Grip fingers left alone: only the explorer is asked.
-  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0035, false}, view, surface, kTipRadius,
-                   &task);
+  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0035, false}, view, surface, {},
+                   kTipRadius, &task);
   for (int f : {kT, kF, kM}) EXPECT_FALSE(task.fingers[f].face_surface) << f;
   EXPECT_TRUE(task.fingers[kR].face_surface);
 
   // Asked for less room than the links have, nobody is.
-  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0}, view, surface, kTipRadius, &task);
+  AskToFaceSurface(chooser, FaceSurfaceParams{true, 0.0}, view, surface, {}, kTipRadius, &task);
   for (int f = 0; f < 4; ++f) EXPECT_FALSE(task.fingers[f].face_surface) << f;
+}
+
+// Asked for every finger whatever its room (5 cm), but only on faces felt flat: none is asked
+// before a face is felt flat; once the fore finger's is, the fore finger; once the faces under
+// the thumb and the middle finger are too, they are.
+TEST(FaceSurfaceTest, OnlyFingersOnAFaceFeltFlatAreAskedWhenSoAsked) {
+  const HandModel model = testing::LoadHand();
+  const ContactChooser chooser = MakeChooser(model);
+  FaceSurfaceParams params{true, 0.05};
+  params.flat_faces_only = true;
+  const Eigen::Vector3d centre(0.071, 0.002, 0.018);
+  const ControllerView view = Held(centre, 0.025);
+  const SurfaceModel surface = FeltCube(view, 0.025);
+  const auto face = [&](const Eigen::Vector3d& normal) {
+    return FlatFace{0.025 * normal, normal};  // object frame: the object unturned at the centre
+  };
+  TaskInput task = AllGrip();
+  AskToFaceSurface(chooser, params, view, surface, {}, kTipRadius, &task);
+  for (int f = 0; f < 4; ++f) EXPECT_FALSE(task.fingers[f].face_surface) << f;
+
+  std::vector<FlatFace> flat{face(Eigen::Vector3d::UnitY())};
+  AskToFaceSurface(chooser, params, view, surface, flat, kTipRadius, &task);
+  for (int f = 0; f < 4; ++f) EXPECT_EQ(task.fingers[f].face_surface, f == kF) << f;
+
+  flat.push_back(face(-Eigen::Vector3d::UnitZ()));
+  flat.push_back(face(Eigen::Vector3d::UnitZ()));
+  AskToFaceSurface(chooser, params, view, surface, flat, kTipRadius, &task);
+  for (int f = 0; f < 4; ++f) EXPECT_EQ(task.fingers[f].face_surface, f != kR) << f;
 }
 
 }  // namespace
