@@ -66,6 +66,7 @@ std::optional<FlatFace> FlatFaceDetector::Add(double time_s, const Eigen::Vector
 
 bool MeetsFlatFace(const Eigen::Vector3d& tip, const SurfaceModel& surface,
                    const std::vector<FlatFace>& flat) {
+  if (flat.empty()) return false;  // a curved object's case: no contact need be looked at
   const SurfaceContact* facing = FacingContact(tip, surface);
   return facing != nullptr && FeltFlat(*facing, flat);
 }

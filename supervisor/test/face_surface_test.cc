@@ -69,7 +69,7 @@ ContactChooser MakeChooser(const HandModel& model) {
 TEST(FaceSurfaceTest, OnASphereNoFingerIsAsked) {
   const HandModel model = testing::LoadHand();
   const ContactChooser chooser = MakeChooser(model);
-  const ControllerView view = Held({0.071, 0.002, 0.018}, 0.025);
+  const ControllerView view = Held(testing::kGaitCentre, 0.025);
   const SurfaceModel surface = testing::FeltSphere(view.object, 0.025, 800);
   TaskInput task = AllGrip();
   task.fingers[kM].face_surface = true;  // left over from the last task
@@ -84,7 +84,7 @@ TEST(FaceSurfaceTest, OnACubeTheFingersAtItsSidesAreAsked) {
   const HandModel model = testing::LoadHand();
   const ContactChooser chooser = MakeChooser(model);
   const FaceSurfaceParams params{true, 0.0035};
-  ControllerView view = Held({0.071, 0.002, 0.018}, 0.025);
+  ControllerView view = Held(testing::kGaitCentre, 0.025);
   const SurfaceModel surface = FeltCube(view, 0.025);
   TaskInput task = AllGrip();
   AskToFaceSurface(chooser, params, view, surface, {}, kTipRadius, &task);
@@ -118,8 +118,7 @@ TEST(FaceSurfaceTest, OnlyFingersOnAFaceFeltFlatAreAskedWhenSoAsked) {
   const ContactChooser chooser = MakeChooser(model);
   FaceSurfaceParams params{true, 0.05};
   params.flat_faces_only = true;
-  const Eigen::Vector3d centre(0.071, 0.002, 0.018);
-  const ControllerView view = Held(centre, 0.025);
+  const ControllerView view = Held(testing::kGaitCentre, 0.025);
   const SurfaceModel surface = FeltCube(view, 0.025);
   const auto face = [&](const Eigen::Vector3d& normal) {
     return FlatFace{0.025 * normal, normal};  // object frame: the object unturned at the centre
