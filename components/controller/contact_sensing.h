@@ -26,6 +26,20 @@ struct ContactNormal {
 ContactNormal NormalFromTip(const Eigen::Vector3d& tip_centre, const Eigen::Vector3d& contact,
                             double tip_radius);
 
+// The tangential force on finger f's tip at its sensed `contact` point (palm frame,
+// perpendicular to the normal NormalFromTip gives there) that, with the sensed normal force,
+// best explains the servos' efforts: in equilibrium effort + J^T f = 0 with f the contact's force
+// on the tip, whose normal part the tip's sensor reads and whose tangential part (friction) only
+// the joints feel. J is the contact point's: a tangential force acts a tip radius off the tip's
+// centre. Least squares over the finger's joints (two unknowns, one equation per joint); zero
+// for a tip that feels nothing. The servos' efforts hold the links up too: `gravity` (palm
+// frame, m/s^2; the palm's IMU) takes out what their gravity compensation adds (a few hundredths
+// of a N m, tenths of a N at the tip). Valid while the finger is near rest and touches with its
+// tip alone (FindLinkContact).
+Eigen::Vector3d TipTangentialForce(const HandKinematics& kin, int f, const std::vector<double>& q,
+                                   const std::vector<double>& effort, double tip_force_n,
+                                   const Eigen::Vector3d& contact, const Eigen::Vector3d& gravity);
+
 struct LinkContact {
   // The finger's joint (base first) the contact lies beyond; -1: none. A contact on a link
   // leaves no torque on the joints beyond it, but the joints before it may feel little of it

@@ -20,6 +20,11 @@ FingerKinematics::FingerKinematics(std::string name, const KDL::Chain& chain,
       q_kdl_(chain_->getNrOfJoints()),
       jac_kdl_(chain_->getNrOfJoints()) {
   DMPL_DEMAND(static_cast<int>(chain_->getNrOfJoints()) == lower_.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    KDL::Vector unit = KDL::Vector::Zero();
+    unit(axis) = 1.0;
+    unit_gravity_[axis] = std::make_unique<KDL::ChainDynParam>(*chain_, unit);
+  }
   for (const KDL::Segment& segment : chain_->segments) {
     if (segment.getJoint().getType() != KDL::Joint::None) {
       links_after_joints_.push_back(segment.getName());
@@ -39,6 +44,30 @@ void FingerKinematics::PositionJacobian(const Eigen::VectorXd& q, Eigen::Matrix3
   // KDL's Jacobian is referenced to the chain's tip: its linear rows are the tip velocity.
   DMPL_DEMAND(jac_->JntToJac(q_kdl_, jac_kdl_) >= 0);
   *jac = jac_kdl_.data.topRows<3>();
+}
+
+Eigen::VectorXd FingerKinematics::GravityTorques(const Eigen::VectorXd& q,
+                                                 const Eigen::Vector3d& gravity) const {
+  q_kdl_.data = q;
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(q.size());
+  KDL::JntArray unit_tau(chain_->getNrOfJoints());
+  for (int axis = 0; axis < 3; ++axis) {
+    if (gravity[axis] == 0.0) continue;
+    DMPL_DEMAND(unit_gravity_[axis]->JntToGravity(q_kdl_, unit_tau) >= 0);
+    tau += gravity[axis] * unit_tau.data;
+  }
+  return tau;
+}
+
+void FingerKinematics::PointJacobian(const Eigen::VectorXd& q, const Eigen::Vector3d& offset,
+                                     Eigen::Matrix3Xd* jac) const {
+  q_kdl_.data = q;
+  DMPL_DEMAND(jac_->JntToJac(q_kdl_, jac_kdl_) >= 0);
+  // v + w x r, with w x r = -r x w.
+  Eigen::Matrix3d cross_offset;
+  cross_offset << 0, -offset.z(), offset.y(), offset.z(), 0, -offset.x(), -offset.y(), offset.x(),
+      0;
+  *jac = jac_kdl_.data.topRows<3>() - cross_offset * jac_kdl_.data.bottomRows<3>();
 }
 
 void FingerKinematics::TipFrame(const Eigen::VectorXd& q, Eigen::Vector3d* tip,

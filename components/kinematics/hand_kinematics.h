@@ -1,6 +1,7 @@
 #pragma once
 // Forward kinematics and Jacobians of each finger: a KDL chain from the palm to the fingertip
 // centre, with the URDF joint limits beside it. Pure: no LCM, no simulator.
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <kdl/chain.hpp>
+#include <kdl/chaindynparam.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 
@@ -31,10 +33,17 @@ class FingerKinematics {
   // The tip's 3 x n position Jacobian (KDL's Jacobian solver runs its own forward kinematics:
   // callers that need the tip too ask TipPosition only when they use it).
   void PositionJacobian(const Eigen::VectorXd& q, Eigen::Matrix3Xd* jac) const;
+  // The 3 x n Jacobian of a point fixed to the fingertip `offset` (palm frame) from its centre,
+  // such as its contact point: the centre's velocity plus the tip's rotation times the offset.
+  void PointJacobian(const Eigen::VectorXd& q, const Eigen::Vector3d& offset,
+                     Eigen::Matrix3Xd* jac) const;
   // The fingertip's axis (the unit z of the tip frame: the distal link's direction, from its
   // joint to the tip centre) in the palm frame, and each joint's rotation axis there (3 x n):
   // the axis turns by omega_k x axis per unit of joint k.
   void TipAxis(const Eigen::VectorXd& q, Eigen::Vector3d* axis, Eigen::Matrix3Xd* omega) const;
+  // The joint torques that hold the finger's links still against `gravity` (palm frame, m/s^2),
+  // from the URDF's link masses: what a servo with gravity compensation adds to its effort.
+  Eigen::VectorXd GravityTorques(const Eigen::VectorXd& q, const Eigen::Vector3d& gravity) const;
   // The link that joint j (0: the base) moves, as the URDF names it.
   const std::string& LinkAfterJoint(int j) const { return links_after_joints_[j]; }
   // Every link of the chain (the palm's child first, the tip last) and its frame in the palm
@@ -50,6 +59,9 @@ class FingerKinematics {
   std::vector<std::string> links_after_joints_;
   std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;
   std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
+  // One per palm axis, each under unit gravity along it: the torques are linear in gravity,
+  // which the palm's IMU turns at run time while KDL fixes it per solver.
+  std::array<std::unique_ptr<KDL::ChainDynParam>, 3> unit_gravity_;
   mutable KDL::JntArray q_kdl_;
   mutable KDL::Jacobian jac_kdl_;
 };

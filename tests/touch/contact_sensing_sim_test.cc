@@ -59,6 +59,48 @@ TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouch
   }
 }
 
+// The friction the joints feel: with each tip's sensed normal force and the tangential force
+// its efforts imply (TipTangentialForce), the forces the fingertips take from a held object add
+// up to its weight, which the normal forces alone do not.
+TEST_P(ContactSensingSimTest, TheTipsForcesWithTheirFrictionCarryTheWeight) {
+  const HandModel model = LoadHand();
+  const HandKinematics kin(model);
+  ObjectParams object;
+  object.shape = GetParam();
+  object.position = {0.09, 0.0, 0.02};
+  object.mass = 0.1;
+  HandSim hand(model, testing::StaticGraspSim(), object);
+  std::string why;
+  ASSERT_TRUE(hand.SetJointTargets(testing::SqueezeTargets(), &why)) << why;
+  for (int i = 0; i < 300; ++i) hand.Step();
+  hand.ReleaseObject();
+  for (int i = 0; i < 1000; ++i) hand.Step();
+  const JointState joints = hand.joints();
+  Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tangential_sum = Eigen::Vector3d::Zero();
+  for (int f = 0; f < kin.num_fingers(); ++f) {
+    const TipState& tip = hand.tactile()[f];
+    ASSERT_TRUE(tip.in_contact) << kin.finger(f).name();
+    const Eigen::Vector3d n =
+        NormalFromTip(kin.TipPosition(f, joints.position), tip.position, 0.0).normal;
+    const Eigen::Vector3d t =
+        TipTangentialForce(kin, f, joints.position, joints.effort, tip.force, tip.position,
+                           hand.gravity_in_palm());
+    EXPECT_LT(std::abs(t.dot(n)), 1e-9) << kin.finger(f).name();
+    normal_sum += tip.force * n;
+    tangential_sum += t;
+  }
+  const Eigen::Vector3d weight = object.mass * hand.gravity_in_palm();
+  const Eigen::Vector3d total = normal_sum + tangential_sum;
+  std::printf("weight %.3f N; normal forces add up to %.3f N off it, with friction %.3f N off\n",
+              weight.norm(), (normal_sum - weight).norm(), (total - weight).norm());
+  // At rest the tips' forces on the object balance its weight (measured: within 6 mN of its
+  // 0.98 N, the normal forces alone 1.3 N off); 50 mN leaves room for Bullet's contact points,
+  // spread over the tip's sub-millimetre penetration.
+  EXPECT_LT((total - weight).norm(), 0.05);
+  EXPECT_GT((normal_sum - weight).norm(), 0.5 * weight.norm()) << "a test that cannot fail";
+}
+
 // A held sphere beside the forefinger's middle link, the finger flexing into it: the simulator's
 // truth names a force on the finger's links (no tip touches), and the joints' efforts find it.
 TEST(LinkContactSimTest, AFingerFlexedIntoAnObjectTouchesWithItsLink) {
