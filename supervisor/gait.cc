@@ -119,6 +119,9 @@ void Gait::Explore(const std::string& finger) {
   board_->NewTask(regrasp_.last_action());
   board_->AllGrip();
   explore_.hop_since = board_->now;
+  explore_.on_link_since = -1.0;
+  explore_.link_lifts = 0;
+  explore_.object = board_->view.object;
   if (HopsOverEdge(f)) {
     // First eased to the explorer's force where it stands, so that the others take the load
     // as they would from any explorer, before it lifts.
@@ -473,7 +476,7 @@ void Gait::Tick() {
 }
 
 void Gait::TickExplore(double in_phase) {
-  const bool hopping = TickHop();
+  const bool hopping = LiftOffLink() || TickHop();
   if (!hopping) KeepExplorerClear();
   const bool there = !hopping && explorer_ >= 0 && board_->reached[explorer_] &&
                      board_->view.fingers[explorer_].in_contact;
@@ -487,6 +490,31 @@ void Gait::TickExplore(double in_phase) {
     explore_.hop = Hop::kNone;  // in time or not, it grips from where it is
     regrasp_.Process(RegraspEvent::ExploreReady);
   }
+}
+
+bool Gait::LiftOffLink() {
+  const ExplorerLinkParams& p = params_.explorer_link;
+  const int f = explorer_;
+  const bool on_link = p.enabled && f >= 0 && explore_.hop == Hop::kNone && board_->on_link[f] &&
+                       !board_->view.fingers[f].in_contact;
+  if (!on_link) {
+    explore_.on_link_since = -1.0;
+    return false;
+  }
+  if (explore_.on_link_since < 0) explore_.on_link_since = board_->now;
+  if (board_->now - explore_.on_link_since < p.after_s || explore_.link_lifts >= p.tries) {
+    return false;
+  }
+  ++explore_.link_lifts;
+  explore_.on_link_since = -1.0;
+  const Eigen::Vector3d lifted = board_->LiftedOff(f, params_.edge_hop.lift_m);
+  board_->SetFinger(f, Role::kFree, Primitive::kPosition, &lifted);
+  explore_.hop = Hop::kLift;
+  explore_.hop_since = board_->now;
+  board_->reached[f] = false;
+  board_->out.changed = true;
+  board_->Note(board_->fingers[f] + " explores on a link: lifted off to come at its point again");
+  return true;
 }
 
 bool Gait::HopsOverEdge(int f) const {
@@ -527,6 +555,14 @@ bool Gait::TickHop() {
       break;
     case Hop::kLift:
       if (!moved) return true;
+      // Lifted off a link: its point is where it was on the object, which the link may have
+      // pushed away.
+      if (explore_.link_lifts > 0) {
+        const Eigen::Isometry3d moved = board_->view.object * explore_.object.inverse();
+        explore_.point = moved * explore_.point;
+        explore_.target = moved * explore_.target;
+        explore_.object = board_->view.object;
+      }
       {
         const Eigen::Vector3d over = OverTarget();
         board_->SetFinger(f, Role::kFree, Primitive::kPosition, &over);

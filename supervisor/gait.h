@@ -120,6 +120,9 @@ class Gait : private RegraspActions {
   bool HopsOverEdge(int f) const;
   // One tick of that hop: true while the explorer is not yet brought in to its point.
   bool TickHop();
+  // An explorer on its link with its tip off the surface is lifted off to come again
+  // (task.explorer_link); true on the tick it is.
+  bool LiftOffLink();
   // Where the hop takes the explorer before it is brought in: lift_m over its target, along the
   // felt normal there (or the line from the centre where the surface is not known).
   Eigen::Vector3d OverTarget() const;
@@ -130,12 +133,15 @@ class Gait : private RegraspActions {
   struct ExploreState {
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
     Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Isometry3d object = Eigen::Isometry3d::Identity();  // where the object was then
     Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // the step axis when it began
     bool spaced = false;
     bool neighbour_rides = false;
     double sign = 1.0;
-    Hop hop = Hop::kNone;  // the stage of its step over an edge (params.edge_hop)
+    Hop hop = Hop::kNone;  // the stage of its step over an edge or off a link
     double hop_since = 0.0;
+    double on_link_since = -1.0;  // its link touches, its tip does not, since (task.explorer_link)
+    int link_lifts = 0;           // times lifted off its link this explore
   };
 
   Blackboard* board_;

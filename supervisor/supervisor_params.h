@@ -65,6 +65,28 @@ struct ExplorerSupportParams {
   }
 };
 
+// task.explorer_link: an explorer that touches with a link while its tip has lost the surface
+// (the controller's LINK_CONTACT, its tip out of contact for `after_s`) is pushing the object
+// through that link, and its force loop, which guards toward the object, pushes harder. It is
+// lifted off and brought over its point again where the object now is (the moves of
+// task.edge_hop: lift_m along the line from the centre, then lift_m over its point along the
+// felt normal, then in as any explorer), at most `tries` times an explore. Off: it slides on until
+// the explore times out. A lever, not a default: it carries the prism and the pebble further, but
+// where the link was carrying the load of the finger across from it, that finger loses its
+// contact once the link is lifted (the ellipsoid's random goals; docs/benchmarks.md, stop 55).
+struct ExplorerLinkParams {
+  bool enabled = false;
+  double after_s = 0.1;
+  int tries = 2;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(DMPL_NVP(enabled));
+    a->Visit(DMPL_NVP(after_s), InRange(0, 3));
+    a->Visit(DMPL_NVP(tries), InRange(0, 10));
+  }
+};
+
 // task.contact_choice: the explorer's next contact chosen among points of the felt surface
 // around the gait's own (contact_chooser.h): one its tip reaches within the joints' limits, whose
 // links stay clear of the felt surface now and after the steps it rides, apart from the other
@@ -230,6 +252,7 @@ struct TaskParams {
   // (docs/benchmarks.md, "Explorers kept off the top").
   double explore_face_partner_rad = 0.0;
   ExplorerSupportParams explorer_support;
+  ExplorerLinkParams explorer_link;
   SupportParams support;
   ContactChoiceParams contact_choice;
   StruckFingerParams struck_fingers;
@@ -261,6 +284,7 @@ struct TaskParams {
                                                           1.5707963267948966));
     a->Visit(DMPL_NVP(explore_face_partner_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(explorer_support));
+    a->Visit(DMPL_NVP(explorer_link));
     a->Visit(DMPL_NVP(support));
     a->Visit(DMPL_NVP(contact_choice));
     a->Visit(DMPL_NVP(struck_fingers));

@@ -796,6 +796,70 @@ TEST(SupervisorTest, AnExplorersLinkTouchIsNoRestUntilItGrips) {
   EXPECT_NE(d.sup.note().find("finger R rests on a link"), std::string::npos) << d.sup.note();
 }
 
+// R explores; its tip leaves the surface and a link touches (pushing the object 5 mm away).
+// With task.explorer_link it is lifted off after `after_s`, brought over its point where the
+// object now is and in to it as any explorer, at most `tries` times; without, it slides on.
+void ExpectAnExplorerOnItsLinkLiftedOff(bool enabled) {
+  TaskParams tp;
+  tp.turn.mode = TurnMode::kFourFingers;
+  tp.angle = 0.35;
+  tp.explorer_link.enabled = enabled;
+  Driver d("fig10_gait", tp);
+  TouchAtTheirHomes(&d);
+  d.Grasp();
+  const int r = 3;
+  ASSERT_EQ(d.sup.roles()[r], Role::kExplore);
+  const Eigen::Vector3d point = d.Tick().task.fingers[r].target;
+  const Eigen::Vector3d pushed(0.0, 0.0, 0.005);
+  d.view.object.translation() += pushed;
+  FingerView& finger = d.view.fingers[r];
+  finger.in_contact = false;
+  finger.force = 0.0;
+  d.Event(EventType::kLinkContact, r);
+  for (int i = 0; i < 5; ++i) d.Tick();  // 50 ms: not yet (after_s 0.1 s)
+  EXPECT_EQ(d.sup.roles()[r], Role::kExplore);
+  const FingerTask* task = nullptr;
+  for (int i = 0; i < 10; ++i) task = &d.Tick().task.fingers[r];
+  if (!enabled) {
+    for (int i = 0; i < 100; ++i) task = &d.Tick().task.fingers[r];
+    EXPECT_EQ(task->role, Role::kExplore);
+    EXPECT_LT((task->target - point).norm(), 1e-9);
+    return;
+  }
+  ASSERT_EQ(task->role, Role::kFree);  // lifted 1 cm off along the line from the centre
+  EXPECT_EQ(task->primitive, Primitive::kPosition);
+  const Eigen::Vector3d c = d.view.object.translation();
+  EXPECT_LT((task->target - (finger.tip + 0.01 * (finger.tip - c).normalized())).norm(), 1e-9);
+  EXPECT_NE(d.sup.note().find("R explores on a link"), std::string::npos) << d.sup.note();
+  d.Event(EventType::kTargetReached, r);
+  task = &d.Tick().task.fingers[r];
+  EXPECT_EQ(task->role, Role::kFree);  // over its point on the object, moved with it
+  const Eigen::Vector3d over = task->target;
+  d.Event(EventType::kTargetReached, r);
+  task = &d.Tick().task.fingers[r];
+  EXPECT_EQ(task->role, Role::kExplore);
+  EXPECT_EQ(task->primitive, Primitive::kHybrid);
+  EXPECT_LT((task->target - (point + pushed)).norm(), 1e-9);
+  EXPECT_NEAR((over - task->target).norm(), 0.01, 1e-9);
+  // Twice more on its link: lifted once more (tries 2), then it slides on.
+  for (int lift = 0; lift < 2; ++lift) {
+    for (int i = 0; i < 15; ++i) task = &d.Tick().task.fingers[r];
+    EXPECT_EQ(task->role, lift == 0 ? Role::kFree : Role::kExplore) << "lift " << lift;
+    for (int hop = 0; hop < 2 && task->role == Role::kFree; ++hop) {
+      d.Event(EventType::kTargetReached, r);
+      task = &d.Tick().task.fingers[r];
+    }
+  }
+}
+
+TEST(SupervisorTest, AnExplorerOnItsLinkWithItsTipOffIsLiftedToComeAgain) {
+  ExpectAnExplorerOnItsLinkLiftedOff(true);
+}
+
+TEST(SupervisorTest, AnExplorerOnItsLinkSlidesOnUnlessAsked) {
+  ExpectAnExplorerOnItsLinkLiftedOff(false);
+}
+
 TEST(SupervisorTest, ALinkRestIsLetBeUnlessAsked) {
   Driver d("fig8_rotate");
   d.Grasp();
