@@ -558,9 +558,9 @@ bool Gait::TickHop() {
       // Lifted off a link: its point is where it was on the object, which the link may have
       // pushed away.
       if (explore_.link_lifts > 0) {
-        const Eigen::Isometry3d moved = board_->view.object * explore_.object.inverse();
-        explore_.point = moved * explore_.point;
-        explore_.target = moved * explore_.target;
+        const Eigen::Isometry3d carried = board_->view.object * explore_.object.inverse();
+        explore_.point = carried * explore_.point;
+        explore_.target = carried * explore_.target;
         explore_.object = board_->view.object;
       }
       {
