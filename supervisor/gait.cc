@@ -507,14 +507,19 @@ bool Gait::LiftOffLink() {
   }
   ++explore_.link_lifts;
   explore_.on_link_since = -1.0;
+  LiftExplorer();
+  board_->Note(board_->fingers[f] + " explores on a link: lifted off to come at its point again");
+  return true;
+}
+
+void Gait::LiftExplorer() {
+  const int f = explorer_;
   const Eigen::Vector3d lifted = board_->LiftedOff(f, params_.edge_hop.lift_m);
   board_->SetFinger(f, Role::kFree, Primitive::kPosition, &lifted);
   explore_.hop = Hop::kLift;
   explore_.hop_since = board_->now;
   board_->reached[f] = false;
   board_->out.changed = true;
-  board_->Note(board_->fingers[f] + " explores on a link: lifted off to come at its point again");
-  return true;
 }
 
 bool Gait::HopsOverEdge(int f) const {
@@ -546,13 +551,8 @@ bool Gait::TickHop() {
     case Hop::kNone:
       return false;
     case Hop::kEase:
-      if (since < hop.ease_s) return true;
-      {
-        const Eigen::Vector3d lifted = board_->LiftedOff(f, hop.lift_m);
-        board_->SetFinger(f, Role::kFree, Primitive::kPosition, &lifted);
-      }
-      explore_.hop = Hop::kLift;
-      break;
+      if (since >= hop.ease_s) LiftExplorer();
+      return true;
     case Hop::kLift:
       if (!moved) return true;
       // Lifted off a link: its point is where it was on the object, which the link may have

@@ -123,6 +123,8 @@ class Gait : private RegraspActions {
   // An explorer on its link with its tip off the surface is lifted off to come again
   // (task.explorer_link); true on the tick it is.
   bool LiftOffLink();
+  // The explorer lifted edge_hop.lift_m off along the line from the centre: the hop's kLift.
+  void LiftExplorer();
   // Where the hop takes the explorer before it is brought in: lift_m over its target, along the
   // felt normal there (or the line from the centre where the surface is not known).
   Eigen::Vector3d OverTarget() const;

@@ -23,18 +23,12 @@ Eigen::Matrix<double, 3, 2> TangentBasis(const Eigen::Vector3d& unit_normal) {
   return tangent;
 }
 
-// The joints' torque that the tip force (`tip_force_n` along `normal`) and the efforts leave.
-Eigen::VectorXd Residual(const HandKinematics& kin, int f, const std::vector<double>& q,
-                         const std::vector<double>& effort, double tip_force_n,
-                         const Eigen::Vector3d& normal, Eigen::Matrix3Xd* jac) {
+// Finger f's part of the servos' efforts (`effort` is the hand's joint vector).
+Eigen::VectorXd FingerEfforts(const HandKinematics& kin, int f, const std::vector<double>& effort) {
   const std::vector<int>& joints = kin.joint_indices(f);
-  Eigen::VectorXd residual = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(joints.size()));
-  if (tip_force_n != 0.0) {
-    kin.finger(f).PositionJacobian(kin.FingerJoints(f, q), jac);
-    residual = jac->transpose() * (tip_force_n * normal);
-  }
-  for (size_t j = 0; j < joints.size(); ++j) residual[j] += effort[joints[j]];
-  return residual;
+  Eigen::VectorXd tau(static_cast<Eigen::Index>(joints.size()));
+  for (size_t j = 0; j < joints.size(); ++j) tau[static_cast<Eigen::Index>(j)] = effort[joints[j]];
+  return tau;
 }
 
 // Whether a tangential tip force within `friction` times the normal force `tip_force_n` leaves
@@ -63,10 +57,9 @@ Eigen::Vector3d TipTangentialForce(const HandKinematics& kin, int f, const std::
   if (tip_force_n <= 0 || normal.isZero()) return Eigen::Vector3d::Zero();
   Eigen::Matrix3Xd jac;
   kin.finger(f).PointJacobian(finger_q, contact - centre, &jac);
-  Eigen::VectorXd residual = jac.transpose() * (tip_force_n * normal) -
-                             kin.finger(f).GravityTorques(finger_q, gravity);
-  const std::vector<int>& joints = kin.joint_indices(f);
-  for (size_t j = 0; j < joints.size(); ++j) residual[j] += effort[joints[j]];
+  const Eigen::VectorXd residual = jac.transpose() * (tip_force_n * normal) +
+                                   FingerEfforts(kin, f, effort) -
+                                   kin.finger(f).GravityTorques(finger_q, gravity);
   const Eigen::Matrix<double, 3, 2> tangent = TangentBasis(normal);
   const Eigen::MatrixX2d effect = jac.transpose() * tangent;
   return tangent * (-effect.colPivHouseholderQr().solve(residual));
@@ -80,7 +73,11 @@ LinkContact FindLinkContact(const HandKinematics& kin, int f,
   // contact on the tip only. A tip that feels nothing leaves the efforts alone (no Jacobian).
   const bool pressed = tip_force_n != 0.0;
   Eigen::Matrix3Xd jac;
-  const Eigen::VectorXd residual = Residual(kin, f, q, effort, tip_force_n, normal, &jac);
+  Eigen::VectorXd residual = FingerEfforts(kin, f, effort);
+  if (pressed) {
+    kin.finger(f).PositionJacobian(kin.FingerJoints(f, q), &jac);
+    residual += jac.transpose() * (tip_force_n * normal);
+  }
   LinkContact contact;
   if (residual.cwiseAbs().maxCoeff() <= threshold_nm ||
       (pressed &&

@@ -19,6 +19,16 @@ using testing::LoadHand;
 
 class ContactSensingSimTest : public ::testing::TestWithParam<const char*> {};
 
+// The object (GetParam()'s shape) held by the static grasp squeezed, released and left to settle
+// in the four tips.
+void SqueezeAndSettle(HandSim* hand) {
+  std::string why;
+  ASSERT_TRUE(hand->SetJointTargets(testing::SqueezeTargets(), &why)) << why;
+  for (int i = 0; i < 300; ++i) hand->Step();
+  hand->ReleaseObject();
+  for (int i = 0; i < 1000; ++i) hand->Step();
+}
+
 TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouches) {
   const HandModel model = LoadHand();
   const HandKinematics kin(model);
@@ -26,11 +36,7 @@ TEST_P(ContactSensingSimTest, NormalFromTheTipMatchesTheSimulatorsAndNoLinkTouch
   object.shape = GetParam();
   object.position = {0.09, 0.0, 0.02};
   HandSim hand(model, testing::StaticGraspSim(), object);
-  std::string why;
-  ASSERT_TRUE(hand.SetJointTargets(testing::SqueezeTargets(), &why)) << why;
-  for (int i = 0; i < 300; ++i) hand.Step();
-  hand.ReleaseObject();
-  for (int i = 0; i < 1000; ++i) hand.Step();
+  ASSERT_NO_FATAL_FAILURE(SqueezeAndSettle(&hand));
   const JointState joints = hand.joints();
   for (int f = 0; f < kin.num_fingers(); ++f) {
     const TipState& tip = hand.tactile()[f];
@@ -70,11 +76,7 @@ TEST_P(ContactSensingSimTest, TheTipsForcesWithTheirFrictionCarryTheWeight) {
   object.position = {0.09, 0.0, 0.02};
   object.mass = 0.1;
   HandSim hand(model, testing::StaticGraspSim(), object);
-  std::string why;
-  ASSERT_TRUE(hand.SetJointTargets(testing::SqueezeTargets(), &why)) << why;
-  for (int i = 0; i < 300; ++i) hand.Step();
-  hand.ReleaseObject();
-  for (int i = 0; i < 1000; ++i) hand.Step();
+  ASSERT_NO_FATAL_FAILURE(SqueezeAndSettle(&hand));
   const JointState joints = hand.joints();
   Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
   Eigen::Vector3d tangential_sum = Eigen::Vector3d::Zero();

@@ -12,6 +12,25 @@ namespace {
 
 using testing::LoadHand;
 
+// Every actuated joint drawn uniformly within its limits.
+std::vector<double> RandomHandJoints(const HandModel& model, std::mt19937* rng) {
+  std::vector<double> q(model.num_actuated());
+  for (int a = 0; a < model.num_actuated(); ++a) {
+    const JointInfo& j = model.actuated_joint(a);
+    q[a] = std::uniform_real_distribution<double>(j.lower, j.upper)(*rng);
+  }
+  return q;
+}
+
+// A finger's joints drawn uniformly within its limits.
+Eigen::VectorXd RandomFingerJoints(const FingerKinematics& finger, std::mt19937* rng) {
+  Eigen::VectorXd q(finger.num_joints());
+  for (int k = 0; k < q.size(); ++k) {
+    q[k] = std::uniform_real_distribution<double>(finger.lower()[k], finger.upper()[k])(*rng);
+  }
+  return q;
+}
+
 TEST(UrdfToKdlTest, TreeHasEverySegmentAndTheActuatedJoints) {
   const HandModel model = LoadHand();
   const KDL::Tree tree = UrdfToKdlTree(model);
@@ -28,11 +47,7 @@ TEST(HandKinematicsTest, ForwardKinematicsAgreesWithTheSimulatorWithin0_1mm) {
   std::mt19937 rng(7);
   double worst = 0.0;
   for (int trial = 0; trial < 200; ++trial) {
-    std::vector<double> q(model.num_actuated());
-    for (int a = 0; a < model.num_actuated(); ++a) {
-      const JointInfo& j = model.actuated_joint(a);
-      q[a] = std::uniform_real_distribution<double>(j.lower, j.upper)(rng);
-    }
+    const std::vector<double> q = RandomHandJoints(model, &rng);
     sim.SetJointPositions(q);
     for (int f = 0; f < kin.num_fingers(); ++f) {
       worst = std::max(worst, (kin.TipPosition(f, q) - sim.TipPosition(f)).norm());
@@ -47,10 +62,7 @@ TEST(HandKinematicsTest, JacobianMatchesFiniteDifferences) {
   std::mt19937 rng(3);
   for (int f = 0; f < kin.num_fingers(); ++f) {
     const FingerKinematics& finger = kin.finger(f);
-    Eigen::VectorXd q(finger.num_joints());
-    for (int k = 0; k < q.size(); ++k) {
-      q[k] = std::uniform_real_distribution<double>(finger.lower()[k], finger.upper()[k])(rng);
-    }
+    const Eigen::VectorXd q = RandomFingerJoints(finger, &rng);
     const Eigen::Vector3d tip = finger.TipPosition(q);
     Eigen::Matrix3Xd jac;
     finger.PositionJacobian(q, &jac);
@@ -70,10 +82,7 @@ TEST(HandKinematicsTest, PointJacobianMatchesFiniteDifferencesOfAPointOnTheTip) 
   const Eigen::Vector3d offset(0.004, -0.006, 0.003);  // about a tip radius off its centre
   for (int f = 0; f < kin.num_fingers(); ++f) {
     const FingerKinematics& finger = kin.finger(f);
-    Eigen::VectorXd q(finger.num_joints());
-    for (int k = 0; k < q.size(); ++k) {
-      q[k] = std::uniform_real_distribution<double>(finger.lower()[k], finger.upper()[k])(rng);
-    }
+    const Eigen::VectorXd q = RandomFingerJoints(finger, &rng);
     std::vector<Eigen::Isometry3d> frames;
     finger.LinkFrames(q, &frames);
     // The point in the tip's own frame: it moves with the tip.
@@ -104,11 +113,7 @@ TEST(HandKinematicsTest, GravityTorquesAreTheSimulatorsCompensation) {
   std::mt19937 rng(11);
   double largest = 0.0;
   for (int trial = 0; trial < 20; ++trial) {
-    std::vector<double> q(model.num_actuated());
-    for (int a = 0; a < model.num_actuated(); ++a) {
-      const JointInfo& j = model.actuated_joint(a);
-      q[a] = std::uniform_real_distribution<double>(j.lower, j.upper)(rng);
-    }
+    const std::vector<double> q = RandomHandJoints(model, &rng);
     sim.SetJointPositions(q);
     std::string why;
     ASSERT_TRUE(sim.SetJointTargets(q, &why)) << why;
