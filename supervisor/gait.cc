@@ -138,7 +138,14 @@ void Gait::Explore(const std::string& finger) {
   if (!board_->view.gravity.isZero()) {
     std::ostringstream note;
     note << std::fixed << std::setprecision(2) << finger << " explores; the others hold "
-         << SupportWithout(board_->view, f, params_.support.Limits()) << " N against gravity";
+         << SupportWithout(board_->view, f, SupportLimitsNow()) << " N against gravity";
+    if (params_.support.observed && board_->view.observed_friction > 0.0) {
+      note << " (friction " << SupportLimitsNow().friction << ", "
+           << board_->view.observed_friction << " observed)";
+    }
+    if (params_.explorer_support.need_weights > 0.0 && board_->view.observed_weight_n > 0.0) {
+      note << "; it weighs " << board_->view.observed_weight_n << " N as the tips feel it";
+    }
     if (!chosen.empty()) note << "; " << chosen;
     board_->Note(note.str());
   } else if (!chosen.empty()) {
@@ -291,13 +298,23 @@ void Gait::NoteStruckFingers() {
   }
 }
 
+double Gait::SupportNeeded() const {
+  const ExplorerSupportParams& e = params_.explorer_support;
+  const double weight = board_->view.observed_weight_n;
+  return e.need_weights > 0.0 && weight > 0.0 ? e.need_weights * weight : e.need_n;
+}
+
+SupportLimits Gait::SupportLimitsNow() const {
+  return params_.support.Limits(board_->view.observed_friction);
+}
+
 int Gait::StruckFingerToLift(int skip) const {
   const StruckFingerParams& p = params_.struck_fingers;
   if (!p.enabled || lifted_ >= 0 || step_ == 0.0) return -1;
   const ControllerView& view = board_->view;
   for (int f = 0; f < board_->num_fingers(); ++f) {
     if (!struck_[f] || f == skip || !view.fingers[f].in_contact) continue;
-    if (view.gravity.isZero() || SupportWithout(view, f, params_.support.Limits()) >= p.need_n) {
+    if (view.gravity.isZero() || SupportWithout(view, f, SupportLimitsNow()) >= p.need_n) {
       return f;
     }
   }
@@ -311,7 +328,7 @@ void Gait::LiftOff(int f) {
   board_->out.changed = true;
   lifted_ = f;
   board_->Note(board_->fingers[f] + " sits this turn out; the others hold " +
-               Fixed(SupportWithout(view, f, params_.support.Limits())) + " N against gravity");
+               Fixed(SupportWithout(view, f, SupportLimitsNow())) + " N against gravity");
 }
 
 void Gait::Grip(const std::string& finger) {
@@ -344,8 +361,8 @@ void Gait::PreferFingerAtRisk(int skip) {
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
   const ExplorerSupportParams& e = params_.explorer_support;
   const ExplorerChoice next =
-      NextExplorer(geometry_, axis, step, skip, board_->view, params_.support.Limits(),
-                   e.slack_rad, e.need_n, e.palm_side_rad);
+      NextExplorer(geometry_, axis, step, skip, board_->view, SupportLimitsNow(),
+                   e.slack_rad, SupportNeeded(), e.palm_side_rad);
   pending_choice_ = {next.grasp_unknown, axis, step, skip};
   if (next.finger < 0) return;
   int finger = next.finger;

@@ -93,6 +93,10 @@ class Gait : private RegraspActions {
   void NoteStruckFingers();
   // The finger just placed again grips with the object held still: this step is 0.
   void HoldStillForPlacedBack();
+  // What a grasp is taken to hold (task.support), with the friction observed so far.
+  SupportLimits SupportLimitsNow() const;
+  // N: the support below which the next explorer is chosen by support (task.explorer_support).
+  double SupportNeeded() const;
   // A struck finger (not `skip`) the others can do without (-1: none); lift it off.
   int StruckFingerToLift(int skip) const;
   void LiftOff(int f);

@@ -1,11 +1,20 @@
 #include "supervisor/supervisor_params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "components/runtime/check.h"
 
 namespace dmpl {
+
+SupportLimits SupportParams::Limits(double observed_friction) const {
+  SupportLimits limits = Limits();
+  if (observed && observed_friction > 0.0) {
+    limits.friction = std::clamp(observed_friction, min_observed, max_observed);
+  }
+  return limits;
+}
 
 // The bounds of single keys are declared beside them (supervisor_params.h).
 void TaskParams::Validate(const std::string& source) const {
@@ -18,6 +27,9 @@ void TaskParams::Validate(const std::string& source) const {
   if (!choice.enabled && (choice.clear_steps || choice.extend_surface_m > 0)) {
     fail(choice.clear_steps ? "contact_choice.clear_steps" : "contact_choice.extend_surface_m",
          "needs task.contact_choice.enabled: true (the chooser's IK and link model)");
+  }
+  if (support.min_observed > support.max_observed) {
+    fail("support.min_observed", "must not exceed task.support.max_observed");
   }
   if (explorer_support.check_ride && !(explorer_support.slack_rad > 0)) {
     fail("explorer_support.check_ride",

@@ -14,16 +14,27 @@ namespace dmpl {
 // weight the contacts can hold with no net moment about the sensed centre, each pushing at most
 // `max_push_n` and pulling sideways at most `friction` times its push. Said each time a finger
 // leaves to explore (the supervisor's note), so that a drop can be read against it.
+// With `observed`, the plan relies on the friction the explorers' slides have shown (the
+// controller's observed_friction, which reads low: friction_observer.h) once there is one,
+// within [min_observed, max_observed]; `friction` until then.
 struct SupportParams {
   double friction = 0.5;    // what the plan relies on: below the objects' usual, above the slick
   double max_push_n = 2.5;  // a finger's push (controller.grip_adaptation.max_grip_force_n)
+  bool observed = false;
+  double min_observed = 0.2;
+  double max_observed = 1.0;
 
   SupportLimits Limits() const { return {friction, 0.0, max_push_n}; }
+  // The limits with what the hand has observed (0: nothing yet).
+  SupportLimits Limits(double observed_friction) const;
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(friction), AboveUpTo(0, 3));
     a->Visit(DMPL_NVP(max_push_n), Above(0));
+    a->Visit(DMPL_NVP(observed));
+    a->Visit(DMPL_NVP(min_observed), AboveUpTo(0, 3));
+    a->Visit(DMPL_NVP(max_observed), AboveUpTo(0, 3));
   }
 };
 
@@ -44,6 +55,9 @@ struct SupportParams {
 struct ExplorerSupportParams {
   double slack_rad = 0.0;
   double need_n = 1e9;  // N: the support below which the reach rule gives way (default: always)
+  // > 0: the need is this many times the weight the controller has observed the tips carry
+  // (weight_observer.h), once it has; need_n until then.
+  double need_weights = 0.0;
   double palm_side_rad = 1.5707963267948966;  // (default: anywhere)
   // With `check_ride`, the furthest finger is kept gripping only while the hand model predicts
   // (ContactChooser::Ride, on the felt surface) that through the step it then rides its tip
@@ -58,6 +72,7 @@ struct ExplorerSupportParams {
   void Serialize(Archive* a) {
     a->Visit(DMPL_NVP(slack_rad), InRange(0, 3.141592653589793));
     a->Visit(DMPL_NVP(need_n), AtLeast(0));
+    a->Visit(DMPL_NVP(need_weights), AtLeast(0));
     a->Visit(DMPL_NVP(palm_side_rad), InRange(-1.5707963267948966, 1.5707963267948966));
     a->Visit(DMPL_NVP(check_ride));
     a->Visit(DMPL_NVP(ride_clearance_m), InRange(-0.05, 0.05));

@@ -72,6 +72,12 @@ ControllerView ToControllerView(const controller_status_t& m,
   if (gravity.allFinite() && std::abs(gravity.norm() - 1.0) < 0.1) {
     view.gravity = gravity.normalized();
   }
+  if (std::isfinite(m.observed_friction) && m.observed_friction > 0.0) {
+    view.observed_friction = m.observed_friction;
+  }
+  if (std::isfinite(m.observed_weight_n) && m.observed_weight_n > 0.0) {
+    view.observed_weight_n = m.observed_weight_n;
+  }
   return view;
 }
 

@@ -59,6 +59,8 @@ struct ControllerView {
   bool grasp_stable = false;
   double tracking_error_rad = 0.0;  // the object estimate against the controller's reference
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // unit, palm frame; zero until sensed
+  double observed_friction = 0.0;  // the explorers' slides (friction_observer.h); 0: not yet
+  double observed_weight_n = 0.0;  // what the tips carry (weight_observer.h); 0: not yet
 };
 
 struct SupervisorOutput {

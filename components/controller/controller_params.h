@@ -1,7 +1,9 @@
 #pragma once
 #include <array>
 
+#include "components/controller/friction_observer.h"
 #include "components/controller/grip_adapter.h"
+#include "components/controller/weight_observer.h"
 #include "components/controller/load_estimator.h"
 #include "components/runtime/params.h"
 
@@ -112,6 +114,8 @@ struct ControllerParams {
   GripAdaptationParams grip_adaptation;  // the grip raised for the explorer's share and on slip
   NormalsAimParams normals_aim;          // grip forces along the contact normals
   LoadParams load;                       // the load the grip learns to carry (load_estimator.h)
+  FrictionObserverParams friction_observer;  // the friction the explorers' slides show
+  WeightObserverParams weight_observer;      // the weight the tips' forces carry
   // Gravity's direction comes from the palm's IMU (SensedInput::gravity), low-passed with this
   // time constant; the object's weight is not known.
   double gravity_time_constant_s = 0.02;
@@ -194,6 +198,8 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(grip_adaptation));
     a->Visit(DMPL_NVP(normals_aim));
     a->Visit(DMPL_NVP(load));
+    a->Visit(DMPL_NVP(friction_observer));
+    a->Visit(DMPL_NVP(weight_observer));
     a->Visit(DMPL_NVP(gravity_time_constant_s), AtLeast(0));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));

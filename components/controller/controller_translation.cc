@@ -74,6 +74,8 @@ void FillStatus(const ControllerOutput& out, int64_t tick, int64_t utime,
   s.tracking_error_rad = out.tracking_error_rad;
   s.grip_force_n = out.grip_force_n;
   s.load_scale = out.load_scale;
+  s.observed_friction = out.observed_friction;
+  s.observed_weight_n = out.observed_weight_n;
   ToArray(out.gravity, s.gravity);
   s.tracking_error_m = out.tracking_error_m;
   ToArray(Eigen::Vector3d(out.object_estimate.translation()), s.object_position);

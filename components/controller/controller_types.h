@@ -101,6 +101,8 @@ struct ControllerOutput {
   Eigen::Vector3d contact_centroid = Eigen::Vector3d::Zero();
   double grip_force_n = 0.0;           // planned per grip finger (GripAdapter)
   double load_scale = 1.0;
+  double observed_friction = 0.0;      // what the explorers' slides showed; 0: not yet
+  double observed_weight_n = 0.0;      // what the tips' forces carry along gravity; 0: not yet
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // unit, palm frame; zero until sensed
 };
 

@@ -41,7 +41,9 @@ ManipulationController::ManipulationController(const HandKinematics& kinematics,
       dt_(tick_s),
       fingers_(kinematics.num_fingers()),
       grip_(params.grip_adaptation, params.grip_force_n),
-      load_(params.load) {
+      load_(params.load),
+      friction_(params.friction_observer),
+      weight_(params.weight_observer) {
   DMPL_DEMAND(tick_s > 0);
   out_.fingers.resize(kinematics.num_fingers());
   max_linear_ = params_.max_linear_speed;
@@ -195,6 +197,29 @@ void ManipulationController::DetectLinkContacts(const SensedInput& in,
   }
 }
 
+void ManipulationController::ObserveObject(const SensedInput& in,
+                                           const std::vector<Eigen::Vector3d>& tips) {
+  if (in.effort.size() != in.q.size()) return;
+  Eigen::Vector3d tips_force = Eigen::Vector3d::Zero();
+  int touching = 0;
+  bool on_link = false;
+  for (int f = 0; f < kin_.num_fingers(); ++f) {
+    const FingerState& s = fingers_[f];
+    const SensedTip& tip = in.tips[f];
+    on_link = on_link || s.on_link;
+    // A link's touch would be read as the tip's friction.
+    if (!tip.in_contact || s.on_link) continue;
+    const Eigen::Vector3d tangential =
+        TipTangentialForce(kin_, f, in.q, in.effort, tip.force, tip.position, in.gravity);
+    tips_force += tip.force * NormalFromTip(tips[f], tip.position, 0.0).normal + tangential;
+    ++touching;
+    if (s.task.role == Role::kExplore) friction_.AddSlide(tip.force, tangential.norm());
+  }
+  weight_.Update(now_, tips_force, in.gravity, touching >= 3 && !on_link);
+  out_.observed_friction = friction_.friction();
+  out_.observed_weight_n = weight_.weight();
+}
+
 void ManipulationController::ApplyTask(const TaskInput& task,
                                        const std::vector<Eigen::Vector3d>& tips) {
   const bool new_task = task.task_id != task_id_;
@@ -321,6 +346,7 @@ const ControllerOutput& ManipulationController::Step(const SensedInput& raw,
   UpdateGravity(in);
   UpdateObjectEstimate(in);
   ApplyTask(task, tips);
+  ObserveObject(in, tips);
   out_.task_id = task_id_;
 
   const Eigen::Isometry3d reference_step = AdvanceReference();

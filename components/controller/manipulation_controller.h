@@ -21,6 +21,8 @@
 #include "components/controller/controller_params.h"
 #include "components/controller/controller_types.h"
 #include "components/controller/force_planner.h"
+#include "components/controller/friction_observer.h"
+#include "components/controller/weight_observer.h"
 #include "components/controller/grip_adapter.h"
 #include "components/controller/load_estimator.h"
 #include "components/kinematics/hand_kinematics.h"
@@ -96,6 +98,10 @@ class ManipulationController {
   // A finger that touches with a link (not its tip): joint torque its tip force does not
   // explain (contact_sensing.h); an event when it begins.
   void DetectLinkContacts(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips);
+  // What the tips' forces, with the friction the joints feel, tell of the object: its friction
+  // (each explorer sliding on its tip alone is a probe: friction_observer.h) and its weight
+  // (weight_observer.h).
+  void ObserveObject(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips);
   Eigen::Isometry3d AdvanceReference();
   GripPlan PlanGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips, bool moving);
   void AdaptGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips,
@@ -127,6 +133,8 @@ class ManipulationController {
   std::vector<Eigen::Vector3d> tip_axes_;  // each fingertip's axis this tick (palm frame)
   GripAdapter grip_;
   LoadEstimator load_;
+  FrictionObserver friction_;
+  WeightObserver weight_;
   double held_n_ = 0.0;  // what the pushes hold up against gravity (normals_aim), low-passed
   Eigen::Vector3d gravity_ = Eigen::Vector3d::Zero();  // its direction in the palm frame (IMU)
   bool has_gravity_ = false;

@@ -222,9 +222,11 @@ bool AddControllerStatus(LogColumns::Channel* ch, const controller_status_t& m,
   t.PutArray("contact_centroid", m.contact_centroid, {3});
   t.Put("grip_force_n", m.grip_force_n);
   t.Put("load_scale", m.load_scale);
+  t.Put("observed_friction", m.observed_friction);
+  t.Put("observed_weight_n", m.observed_weight_n);
   std::vector<int8_t> role, primitive, contact;
   std::vector<double> force, desired;
-  std::vector<double> tip, target, contact_pos;
+  std::vector<double> tip, target, contact_pos, axis;
   for (const auto& f : m.fingers) {
     role.push_back(f.role);
     primitive.push_back(f.primitive);
@@ -234,6 +236,7 @@ bool AddControllerStatus(LogColumns::Channel* ch, const controller_status_t& m,
     tip.insert(tip.end(), f.tip_position, f.tip_position + 3);
     target.insert(target.end(), f.target_position, f.target_position + 3);
     contact_pos.insert(contact_pos.end(), f.contact_position, f.contact_position + 3);
+    axis.insert(axis.end(), f.tip_axis, f.tip_axis + 3);
   }
   t.PutArray("role", role.data(), {nf});
   t.PutArray("primitive", primitive.data(), {nf});
@@ -243,6 +246,7 @@ bool AddControllerStatus(LogColumns::Channel* ch, const controller_status_t& m,
   t.PutArray("tip_position", tip.data(), {nf, 3});
   t.PutArray("target_position", target.data(), {nf, 3});
   t.PutArray("contact_position", contact_pos.data(), {nf, 3});
+  t.PutArray("tip_axis", axis.data(), {nf, 3});
   t.EndRow();
   for (const auto& e : m.events) {
     if (!ch->events) {

@@ -1,6 +1,7 @@
 #include "supervisor/explorer_choice.h"
 
 #include "supervisor/contact_chooser.h"
+#include "supervisor/supervisor_params.h"
 
 #include <gtest/gtest.h>
 
@@ -115,6 +116,34 @@ TEST(ExplorerChoiceTest, OnALevelGraspTheReachRuleStands) {
   const ExplorerChoice choice = NextExplorer(g, z, 0.1, -1, grasp.view, kLimits, M_PI);
   EXPECT_EQ(choice.finger, choice.furthest);
   EXPECT_EQ(choice.finger, g.FurthestFromHome(z, 0.1, -1, grasp.view));
+}
+
+}  // namespace
+}  // namespace dmpl
+
+namespace dmpl {
+namespace {
+
+TEST(SupportLimitsTest, TheObservedFrictionIsReliedOnOnlyWhenAskedAndWithinItsBounds) {
+  SupportParams p;  // friction 0.5, observed friction within [0.2, 1.0] when asked
+  EXPECT_DOUBLE_EQ(p.Limits(0.8).friction, 0.5);  // not asked
+  p.observed = true;
+  EXPECT_DOUBLE_EQ(p.Limits(0.0).friction, 0.5);  // nothing observed yet
+  EXPECT_DOUBLE_EQ(p.Limits(0.8).friction, 0.8);
+  EXPECT_DOUBLE_EQ(p.Limits(3.0).friction, 1.0);
+  EXPECT_DOUBLE_EQ(p.Limits(0.05).friction, 0.2);
+  EXPECT_DOUBLE_EQ(p.Limits(0.8).max_push_n, p.max_push_n);
+}
+
+TEST(SupportLimitsTest, AGraspOnAGrippyObjectHoldsMoreWithoutAFinger) {
+  // Fingers 1 and 3 above the equator press the sphere toward the palm: with finger 0 lifted,
+  // finger 2 alone pushes up, and friction carries the rest.
+  const Grasp grasp({0.0, 0.15, -0.2, 0.15});
+  SupportParams p;
+  p.observed = true;
+  const double slick = SupportWithout(grasp.view, 0, p.Limits(0.3));
+  const double grippy = SupportWithout(grasp.view, 0, p.Limits(0.9));
+  EXPECT_GT(grippy, slick + 0.5);
 }
 
 }  // namespace
