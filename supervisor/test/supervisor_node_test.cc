@@ -89,5 +89,24 @@ TEST(SupervisorTranslationTest, GravityIsADirectionOrNothing) {
   EXPECT_TRUE(view_of(std::numeric_limits<double>::quiet_NaN(), 0, -1).isZero());
 }
 
+// What the controller has observed of the object is a positive number, or nothing yet.
+TEST(SupervisorTranslationTest, ObservedFrictionAndWeightArePositiveOrNothing) {
+  const std::vector<std::string> fingers = {"T", "F", "M", "R"};
+  auto view_of = [&](double friction, double weight) {
+    controller_status_t m{};
+    m.object_orientation[0] = 1.0;
+    m.observed_friction = friction;
+    m.observed_weight_n = weight;
+    return ToControllerView(m, fingers);
+  };
+  EXPECT_DOUBLE_EQ(view_of(0.8, 0.49).observed_friction, 0.8);
+  EXPECT_DOUBLE_EQ(view_of(0.8, 0.49).observed_weight_n, 0.49);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const double bad : {0.0, -1.0, nan, std::numeric_limits<double>::infinity()}) {
+    EXPECT_EQ(view_of(bad, bad).observed_friction, 0.0) << bad;
+    EXPECT_EQ(view_of(bad, bad).observed_weight_n, 0.0) << bad;
+  }
+}
+
 }  // namespace
 }  // namespace dmpl
