@@ -4,14 +4,19 @@ the contact normals, raised on slips, a spring toward the task's position, 2 N p
 holds a heavy, a slick, and a heavy and slick sphere through their explores, where the paper's
 grip (forces at the contacts' centroid, zero net force, a fixed 0.8 N) loses the slick one at the
 first. Around a small sphere the steps shrink so that the fingers keep clear of each other."""
+import shutil
 import sys
 import tempfile
 import unittest
 
+import numpy as np
+
 import mp
+from dmpl_tools.logdata import LogData
 from dmpl_tools.run import run_experiment
 
 GAIT = mp.ROOT + "/configs/experiments/fig10_gait_sphere.yaml"
+GOALS = mp.ROOT + "/configs/experiments/reorient_random.yaml"
 CAPSULE = ["object.shape=capsule", "object.radius=0.025", "object.length=0.06",
            "object.rpy=[0.0,1.5707963267948966,0.0]"]
 LONG_CYLINDER = ["object.shape=cylinder", "object.radius=0.02", "object.length=0.1",
@@ -66,6 +71,34 @@ class UnknownObjectsTest(unittest.TestCase):
                      ["object.shape=ellipsoid", "object.radii=[0.035,0.025,0.02]"]):
             with self.subTest(sets=sets):
                 self.check_turned(turn(*sets))
+
+
+class ObservedObjectTest(unittest.TestCase):
+    """What the hand observes of an object it is not told: its weight (the tips' forces with the
+    friction their joints feel) and its friction (each explorer's slide)."""
+
+    def observe(self, mass, friction):
+        out = tempfile.mkdtemp(prefix="dmpl_observed_")
+        self.addCleanup(shutil.rmtree, out, ignore_errors=True)
+        s, out = run_experiment(GOALS, out, echo=False, one_process=True, record="analysis",
+                                sets=["task.random_goals=4", f"object.mass={mass}",
+                                      f"object.friction={friction}"])
+        self.assertFalse(s["object_dropped"], s.get("problems"))
+        ctl = LogData.from_log(out / "run.lcmlog").controller
+        return ctl["observed_weight"][-1], ctl["observed_friction"][-1]
+
+    def test_the_weight_and_the_friction_of_an_object_it_is_not_told(self):
+        light_weight, slick = self.observe(0.05, 0.6)
+        heavy_weight, grippy = self.observe(0.15, 1.0)
+        # The weight within 5 % (measured: 0.496 N of 0.491, 1.475 of 1.472): the tips' forces
+        # at rest balance it, low-passed over 0.1 s and the median of many.
+        self.assertAlmostEqual(light_weight, 0.05 * 9.81, delta=0.05 * 0.49)
+        self.assertAlmostEqual(heavy_weight, 0.15 * 9.81, delta=0.05 * 1.47)
+        # The friction reads low (part of each slide sticks: measured 0.46 at 0.6, 0.79 at 1.0), never above the object's, and tells the slick object from the grippy one.
+        self.assertGreater(slick, 0.3)
+        self.assertLess(slick, 0.6)
+        self.assertLess(grippy, 1.0)
+        self.assertGreater(grippy, slick + 0.15)
 
 
 if __name__ == "__main__":

@@ -213,6 +213,11 @@ class LogData:
             "grip_force": ctl["grip_force_n"] if "grip_force_n" in ctl
             else np.full(len(_t(ctl)), np.nan),
             "role": _get(ctl, "role", (nf,), int).astype(int),
+            # What the controller has observed of the object (0: not yet; NaN in older logs).
+            "observed_friction": ctl["observed_friction"] if "observed_friction" in ctl
+            else np.full(len(_t(ctl)), np.nan),
+            "observed_weight": ctl["observed_weight_n"] if "observed_weight_n" in ctl
+            else np.full(len(_t(ctl)), np.nan),
             "events": list(zip(_t(events), events.get("type", []), events.get("finger", []),
                                events.get("text", [])))})
 
