@@ -94,7 +94,8 @@ class ObservedObjectTest(unittest.TestCase):
         # at rest balance it, low-passed over 0.1 s and the median of many.
         self.assertAlmostEqual(light_weight, 0.05 * 9.81, delta=0.05 * 0.49)
         self.assertAlmostEqual(heavy_weight, 0.15 * 9.81, delta=0.05 * 1.47)
-        # The friction reads low (part of each slide sticks: measured 0.46 at 0.6, 0.79 at 1.0), never above the object's, and tells the slick object from the grippy one.
+        # The friction reads low (part of each slide sticks: measured 0.46 at 0.6, 0.79 at
+        # 1.0), never above the object's, and tells the slick object from the grippy one.
         self.assertGreater(slick, 0.3)
         self.assertLess(slick, 0.6)
         self.assertLess(grippy, 1.0)
