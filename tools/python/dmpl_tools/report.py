@@ -32,6 +32,7 @@ from .logdata import (Columns, LogData, LogError, angle_between, extract, cumula
 # What the plots read: the metrics' columns, the sensed object pose, the planned grip force and
 # the controller's events (slips).
 _CONTROLLER = ["utime", "seq", "role", "desired_force", "grip_force_n", "events/.*",
+               "observed_friction", "observed_weight_n",
                *faces.CONTROLLER_FIELDS]
 FIELDS = {**metrics.COLUMNS,
           channels.SENSORS_TRUE: sorted(set(metrics.COLUMNS[channels.SENSORS_TRUE]) |
@@ -384,6 +385,25 @@ def recovery_lines(data, link_n):
     return lines
 
 
+def observed_lines(data, config):
+    """What the controller observed of the object by the run's end, beside the truth."""
+    ctl, obj = data.controller, config.get("object", {})
+    if not len(ctl):
+        return []
+    gravity = float(np.linalg.norm(config.get("sim", {}).get("gravity", [0, 0, -9.81])))
+    rows = []
+    for key, label, unit, truth in (
+            ("observed_weight", "weight the tips carry", " N",
+             obj.get("mass") and float(obj["mass"]) * gravity),
+            ("observed_friction", "friction the explorers' slides show", "",
+             obj.get("friction"))):
+        v = float(ctl[key][-1])
+        seen = f"{v:.3g}{unit}" if np.isfinite(v) and v > 0 else "not observed"
+        of = f" (the object's: {float(truth):.3g}{unit})" if truth else ""
+        rows.append(f"| {label} | {seen}{of} |")
+    return rows
+
+
 def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=None):
     """Writes the figures, report.md and a 3-D replay (replay_path, default OUT/replay.html;
     False: none); returns the report's path."""
@@ -429,6 +449,7 @@ def make_report(log_path, out_dir=None, summary=None, config=None, replay_path=N
             v = summary[key]
             lines.append(f"| {key} | {v:.4g} |" if isinstance(v, float) else f"| {key} | {v} |")
     lines.append(f"| surface felt | {surface_note} |")
+    lines += observed_lines(data, config)
     if faces_note:
         lines.append(f"| face detected = true face | {faces_note} |")
     for p in summary.get("problems", []):
