@@ -69,9 +69,9 @@ double SupportWithout(const ControllerView& view, int lifted, const SupportLimit
 }
 
 ContactChooser::ContactChooser(const HandModel& model, ContactChoiceParams params,
-                               SupportLimits limits)
+                               SupportParams support)
     : params_(params),
-      limits_(limits),
+      support_(support),
       kin_(std::make_unique<HandKinematics>(model)) {
   for (int f = 0; f < kin_->num_fingers(); ++f) links_.emplace_back(model, kin_->finger(f));
 }
@@ -165,9 +165,10 @@ double ContactChooser::Support(int f, const ContactCandidate& c,
                                const ControllerView& view) const {
   std::vector<SupportContact> contacts = GripContacts(view, f);
   contacts.push_back({c.contact, -c.outward});
+  const SupportLimits limits = support_.Limits(view.observed_friction);
   double weakest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& d : kLoadDirections) {
-    weakest = std::min(weakest, SupportAlong(contacts, d, view.object.translation(), limits_));
+    weakest = std::min(weakest, SupportAlong(contacts, d, view.object.translation(), limits));
   }
   return weakest;
 }

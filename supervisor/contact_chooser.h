@@ -79,7 +79,8 @@ double SupportWithout(const ControllerView& view, int lifted, const SupportLimit
 
 class ContactChooser {
  public:
-  ContactChooser(const HandModel& model, ContactChoiceParams params, SupportLimits limits);
+  // `support`: what a grasp is taken to hold (with the friction observed, if it says so).
+  ContactChooser(const HandModel& model, ContactChoiceParams params, SupportParams support);
 
   ContactChoice Choose(const ContactRequest& request, const ControllerView& view,
                        const SurfaceModel& surface) const;
@@ -122,7 +123,7 @@ class ContactChooser {
   void Select(const ContactRequest& request, ContactChoice* choice) const;
 
   ContactChoiceParams params_;
-  SupportLimits limits_;
+  SupportParams support_;
   std::unique_ptr<HandKinematics> kin_;  // on the heap: the links keep references into it
   std::vector<FingerLinks> links_;
 };

@@ -223,7 +223,7 @@ Loaded Load(const Config& config) {
   if (l.task_params.contact_choice.enabled || l.task_params.explorer_support.check_ride ||
       l.task_params.face_surface.enabled || l.params.replace_on_felt_surface) {
     l.chooser = std::make_shared<const ContactChooser>(
-        HandModel::Load(hand), l.task_params.contact_choice, l.task_params.support.Limits());
+        HandModel::Load(hand), l.task_params.contact_choice, l.task_params.support);
   }
   return l;
 }

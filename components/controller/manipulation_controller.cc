@@ -32,6 +32,13 @@ void ControllerParams::Validate(const std::string& source) const {
   if (!(normals_aim.max_force_n >= grip_force_n)) {
     fail("normals_aim.max_force_n", "must be >= grip_force_n");
   }
+  // More samples asked than kept: nothing would ever be observed.
+  if (friction_observer.min_samples > friction_observer.window) {
+    fail("friction_observer.min_samples", "must be <= friction_observer.window");
+  }
+  if (weight_observer.min_samples > weight_observer.window) {
+    fail("weight_observer.min_samples", "must be <= weight_observer.window");
+  }
 }
 
 ManipulationController::ManipulationController(const HandKinematics& kinematics,

@@ -47,7 +47,7 @@ Grasp SphereGrasp() {
 ContactChooser MakeChooser(const HandModel& model) {
   ContactChoiceParams params;
   params.enabled = true;
-  return ContactChooser(model, params, SupportLimits{0.5, 0.0, 2.5});
+  return ContactChooser(model, params, SupportParams{});
 }
 
 ContactRequest Request(const Grasp& g, int f, const Eigen::AngleAxisd& turn,

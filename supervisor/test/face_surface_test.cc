@@ -63,7 +63,7 @@ TaskInput AllGrip() {
 }
 
 ContactChooser MakeChooser(const HandModel& model) {
-  return ContactChooser(model, ContactChoiceParams{}, SupportLimits{0.5, 0.0, 2.5});
+  return ContactChooser(model, ContactChoiceParams{}, SupportParams{});
 }
 
 TEST(FaceSurfaceTest, OnASphereNoFingerIsAsked) {

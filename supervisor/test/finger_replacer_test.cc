@@ -63,7 +63,7 @@ Eigen::Vector3d OverHome(const Blackboard& board, double lift) {
 ContactChooser MakeChooser(const HandModel& model) {
   ContactChoiceParams choice;
   choice.enabled = true;
-  return ContactChooser(model, choice, SupportLimits{0.5, 0.0, 2.5});
+  return ContactChooser(model, choice, SupportParams{});
 }
 
 // R's home 0.9 rad about the palm's normal from where it stood: over it the hand model puts its

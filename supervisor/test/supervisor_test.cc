@@ -949,6 +949,12 @@ TEST(SupervisorTest, BadTaskNumbersNameTheKey) {
               t->explorer_support.slack_rad = 0.35;
             }),
             "");
+  EXPECT_NE(error([](TaskParams* t) { t->support.min_observed = 1.2; })
+                .find("key 'task.support.min_observed': must not exceed"),
+            std::string::npos);
+  EXPECT_NE(error([](TaskParams* t) { t->explorer_support.need_weights = -1; })
+                .find("task.explorer_support.need_weights"),
+            std::string::npos);
   EXPECT_NE(error([](TaskParams* t) { t->edge_hop.move_timeout_s = 0; })
                 .find("key 'task.edge_hop.move_timeout_s'"),
             std::string::npos);

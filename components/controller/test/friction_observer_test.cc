@@ -1,5 +1,7 @@
 #include "components/controller/friction_observer.h"
 
+#include "components/controller/controller_params.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -72,6 +74,24 @@ TEST(FrictionObserverTest, ItFollowsTheLastWindowOfSlides) {
   Slide(&o, 0.4, p.window, &rng);  // the object's surface changed under the fingers
   EXPECT_LT(o.friction(), 0.5 * grippy);
   EXPECT_EQ(o.samples(), p.window);
+}
+
+TEST(FrictionObserverTest, MoreSamplesAskedThanKeptIsAConfigErrorNamingTheKey) {
+  ControllerParams p;
+  p.friction_observer.min_samples = p.friction_observer.window + 1;
+  try {
+    p.Validate("exp.yaml");
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("exp.yaml"), std::string::npos) << what;
+    EXPECT_NE(what.find("key 'controller.friction_observer.min_samples'"), std::string::npos)
+        << what;
+  }
+  p = ControllerParams{};
+  p.weight_observer.min_samples = p.weight_observer.window + 1;
+  EXPECT_THROW(p.Validate("exp.yaml"), ConfigError);
+  EXPECT_NO_THROW(ControllerParams{}.Validate("exp.yaml"));
 }
 
 }  // namespace
