@@ -8,8 +8,7 @@
 // that relies on it relies on less than the object gives. A grip, which never leans on its
 // contacts' friction beyond about 0.4 of its push whatever the object, tells nothing of it.
 // Pure: no LCM, no object model.
-#include <vector>
-
+#include "components/controller/rolling_median.h"
 #include "components/runtime/params.h"
 
 namespace dmpl {
@@ -38,15 +37,12 @@ class FrictionObserver {
   void AddSlide(double push_n, double tangential_n);
   // The observed friction coefficient; 0 until min_samples slides have been seen.
   double friction() const { return friction_; }
-  int samples() const { return static_cast<int>(ratios_.size()); }  // kept now
+  int samples() const { return ratios_.size(); }  // kept now
 
  private:
-  void TakeMedian();
-
   FrictionObserverParams params_;
-  std::vector<double> ratios_;  // a ring of the last `window` ratios
-  long count_ = 0;              // ratios seen in all
-  long since_median_ = 0;
+  RollingMedian ratios_;
+  int since_median_ = 0;
   double friction_ = 0.0;
 };
 

@@ -5,9 +5,8 @@
 
 namespace dmpl {
 
-WeightObserver::WeightObserver(const WeightObserverParams& params) : params_(params) {
-  samples_.reserve(static_cast<size_t>(params_.window));
-}
+WeightObserver::WeightObserver(const WeightObserverParams& params)
+    : params_(params), samples_(params.window) {}
 
 void WeightObserver::Update(double time_s, const Eigen::Vector3d& tips_force,
                             const Eigen::Vector3d& down, bool readable) {
@@ -29,18 +28,8 @@ void WeightObserver::Update(double time_s, const Eigen::Vector3d& tips_force,
   filtered_ += a * (tips_force - filtered_);
   if (time_s < next_sample_) return;
   next_sample_ = time_s + params_.sample_every_s;
-  const double along = filtered_.dot(down.normalized());
-  if (static_cast<int>(samples_.size()) < params_.window) {
-    samples_.push_back(along);
-  } else {
-    samples_[static_cast<size_t>(count_ % params_.window)] = along;
-  }
-  ++count_;
-  if (samples() < params_.min_samples) return;
-  std::vector<double> sorted = samples_;
-  const auto mid = sorted.begin() + static_cast<long>(sorted.size() / 2);
-  std::nth_element(sorted.begin(), mid, sorted.end());
-  weight_ = std::max(0.0, *mid);
+  samples_.Add(filtered_.dot(down.normalized()));
+  if (samples() >= params_.min_samples) weight_ = std::max(0.0, samples_.Median());
 }
 
 }  // namespace dmpl

@@ -7,10 +7,9 @@
 // and no link touches (a link carries load the tips do not feel), and the median of the last of
 // those, is what the hand has observed of the object's weight. The object's mass is never read.
 // Pure: no LCM, no object model.
-#include <vector>
-
 #include <Eigen/Core>
 
+#include "components/controller/rolling_median.h"
 #include "components/runtime/params.h"
 
 namespace dmpl {
@@ -42,7 +41,7 @@ class WeightObserver {
               bool readable);
   // N: the observed weight; 0 until min_samples samples have been taken.
   double weight() const { return weight_; }
-  int samples() const { return static_cast<int>(samples_.size()); }
+  int samples() const { return samples_.size(); }
 
  private:
   WeightObserverParams params_;
@@ -50,8 +49,7 @@ class WeightObserver {
   double last_time_ = 0.0;
   double next_sample_ = 0.0;
   Eigen::Vector3d filtered_ = Eigen::Vector3d::Zero();
-  std::vector<double> samples_;  // a ring of the last `window` samples
-  long count_ = 0;
+  RollingMedian samples_;
   double weight_ = 0.0;
 };
 

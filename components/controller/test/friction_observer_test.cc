@@ -1,6 +1,7 @@
 #include "components/controller/friction_observer.h"
 
 #include "components/controller/controller_params.h"
+#include "components/controller/rolling_median.h"
 
 #include <gtest/gtest.h>
 
@@ -24,6 +25,20 @@ void Slide(FrictionObserver* o, double mu, int ticks, std::mt19937* rng, double 
     if (unit(*rng) < 0.1) t = 3.0 * unit(*rng);
     o->AddSlide(n, t);
   }
+}
+
+TEST(RollingMedianTest, TheOldestValueGivesWayToTheNewest) {
+  RollingMedian m(3);
+  EXPECT_EQ(m.Median(), 0.0);
+  m.Add(5.0);
+  m.Add(1.0);
+  EXPECT_EQ(m.Median(), 5.0);  // the upper of two
+  m.Add(3.0);
+  EXPECT_EQ(m.Median(), 3.0);
+  m.Add(9.0);  // 5 goes: 1, 3, 9
+  m.Add(8.0);  // 1 goes: 3, 9, 8
+  EXPECT_EQ(m.size(), 3);
+  EXPECT_EQ(m.Median(), 8.0);
 }
 
 TEST(FrictionObserverTest, NothingIsObservedBeforeEnoughSlides) {
