@@ -9,11 +9,9 @@
 namespace dmpl {
 
 SupportLimits SupportParams::Limits(double observed_friction) const {
-  SupportLimits limits = Limits();
-  if (observed && observed_friction > 0.0) {
-    limits.friction = std::clamp(observed_friction, min_observed, max_observed);
-  }
-  return limits;
+  const bool use_observed = observed && observed_friction > 0.0;
+  return {use_observed ? std::clamp(observed_friction, min_observed, max_observed) : friction, 0.0,
+          max_push_n};
 }
 
 // The bounds of single keys are declared beside them (supervisor_params.h).

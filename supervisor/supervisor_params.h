@@ -24,8 +24,7 @@ struct SupportParams {
   double min_observed = 0.2;
   double max_observed = 1.0;
 
-  SupportLimits Limits() const { return {friction, 0.0, max_push_n}; }
-  // The limits with what the hand has observed (0: nothing yet).
+  // The limits, with the friction the hand has observed (0: nothing yet) if `observed`.
   SupportLimits Limits(double observed_friction) const;
 
   template <typename Archive>
