@@ -29,6 +29,7 @@ from dmpl_tools.bus import Buses
 from dmpl_tools.export import export
 from dmpl_tools.hand_geometry import load_hand
 from dmpl_tools.logdata import LogData, Series
+from dmpl_tools.landings import SurfaceTilt, landings, summary_lines
 from dmpl_tools.losses import ContactAngles, recoveries, tally
 from dmpl_tools.phases import kind, summarize
 from dmpl_tools.report import make_report, recovery_lines
@@ -404,6 +405,87 @@ class LossesTest(unittest.TestCase):
             angles.append(ContactAngles(data, hand)(3, 0))
         np.testing.assert_allclose(angles, [0.0, 90.0, 180.0], atol=1e-6)
         self.assertTrue(math.isnan(ContactAngles(data, None)(3, 0)))
+
+
+class LandingsTest(unittest.TestCase):
+    """A synthetic run at 100 Hz: R explores and lands far round its tip, and its link takes the
+    load 0.3 s later; F explores and lands on its front; a recovery's explore does not count."""
+
+    @staticmethod
+    def run_of():
+        t = np.round(np.arange(0.0, 4.0, 0.01), 2)
+        n = len(t)
+        action = ["A1 TFMR rotate"] * n
+        state = ["Tasks"] * n
+        touching = np.ones((n, 4), dtype=bool)
+        link = np.zeros((n, 4))
+        for i in np.flatnonzero((t >= 0.5) & (t < 0.8)):
+            action[i] = "A4 R explore"
+        for i in np.flatnonzero((t >= 0.8) & (t < 1.5)):
+            action[i] = "A3 R grip + A1 TFMR rotate"
+        link[(t >= 1.1) & (t < 1.3), 3] = 2.0          # R's link, 0.3 s after it landed
+        for i in np.flatnonzero((t >= 1.5) & (t < 1.9)):
+            action[i] = "A10 F explore"
+        for i in np.flatnonzero((t >= 2.5) & (t < 3.0)):
+            action[i], state[i] = "A7 M explore", "Recovering"
+        touching[(t >= 0.6) & (t < 0.7), 3] = False    # R in the air while it moves
+        data = type("Run", (), {})()
+        data.fingers = ["T", "F", "M", "R"]
+        data.supervisor = Series(t, {"grasp_state": state, "last_action": action,
+                                     "note": [""] * n})
+        data.tactile = Series(t, {"in_contact": touching, "link_force": link})
+        return data
+
+    def test_each_explore_lands_with_its_angle_its_tilt_and_what_followed(self):
+        # R lands 110 deg round (a sphere there: 98), F 70 (a sphere there: 75); angles before
+        # the explore 85 and 80; the surface tilted 15 and 5 deg.
+        angle = lambda f, i: {3: 85.0 if i < 80 else 110.0, 1: 80.0 if i < 190 else 70.0}[f]
+        tilt = lambda f, i: {3: 15.0, 1: 5.0}[f]
+        sphere = lambda f, i: {3: 98.0, 1: 75.0}[f]
+        found = landings(self.run_of(), link_n=0.05, within=1.0, angle_at=angle, tilt_at=tilt,
+                         sphere_at=sphere)
+        self.assertEqual([r.finger for r in found], ["R", "F"])
+        r, f = found
+        self.assertAlmostEqual(r.t, 0.8)
+        self.assertEqual((r.angle_before_deg, r.angle_after_deg), (85.0, 110.0))
+        self.assertAlmostEqual(r.link_after_s, 0.3)
+        self.assertEqual((r.tilt_deg, r.on_sphere_deg), (15.0, 98.0))
+        self.assertTrue(math.isnan(f.link_after_s))
+        # A link that takes the load later than `within` is not this landing's.
+        self.assertTrue(math.isnan(landings(self.run_of(), 0.05, 0.2, angle)[0].link_after_s))
+        lines = summary_lines(found, 1.0)
+        self.assertEqual(lines[0], "2 landings, 2 on the object")
+        row = next(line for line in lines if line.startswith("landed 100-180"))
+        self.assertEqual(row.split()[-3:], ["1", "(100", "%)"])
+        row = next(line for line in lines if line.startswith("tilt: toward the link"))
+        self.assertIn("+25 deg", row)                   # 85 -> 110, turned 12 toward the link
+        row = next(line for line in lines if line.startswith("tilt: within 10 deg"))
+        self.assertIn("-10 deg", row)
+
+    def test_the_tilt_is_the_normal_against_the_direction_from_the_centre(self):
+        hand = load_hand()
+        names = [j.name for j in hand.joints if j.kind == "revolute"]
+        q = np.array([[0.1 * (k % 4) for k in range(len(names))]])
+        tip = hand.link_poses(dict(zip(names, q[0])))["R_tip"]
+        axis, centre = tip[:3, 2], tip[:3, 3] + 0.03 * tip[:3, 2]  # the object before its front
+        side = np.cross(axis, [1.0, 0.0, 0.0])
+        side /= np.linalg.norm(side)
+        out = []
+        for normal in (-axis, side):   # from the object into the tip: out of the object
+            normals = np.zeros((1, 4, 3))
+            normals[0, 3] = normal
+            data = type("Run", (), {})()
+            data.fingers = ["T", "F", "M", "R"]
+            data.object = Series(np.zeros(1), {"position": centre[None, :]})
+            data.columns = type("Columns", (), {
+                "channels": {"DMPL_SENSORS_TRUE": {"joints": names}},
+                "table": lambda self, channel, n=normals: {"joint_position": q,
+                                                           "tactile_normal": n}})()
+            tilt = SurfaceTilt(data, hand)
+            out.append((tilt.tilt(3, 0), tilt.on_sphere(3, 0)))
+        # Out of the object toward the tip is -axis: a front contact faces it (tilt 0), a side
+        # one is 90 deg off it; on a sphere about that centre either would touch the front.
+        np.testing.assert_allclose(out, [(0.0, 0.0), (90.0, 0.0)], atol=1e-6)
 
 
 class SummariesTest(unittest.TestCase):
