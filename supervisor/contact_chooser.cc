@@ -154,6 +154,9 @@ void ContactChooser::Assess(int f, const Eigen::VectorXd& seed, const ContactReq
   const Eigen::Vector3d tip_after = centre + request.ride * (c->tip - centre);
   const IkResult after = SolveFingerIk(finger, there.q, tip_after, ik);
   c->joints = there.q;
+  Eigen::Vector3d tip, axis;
+  finger.TipFrame(there.q, &tip, &axis);
+  c->contact_angle_rad = std::acos(std::clamp(-axis.dot(c->outward), -1.0, 1.0));
   c->reached = there.residual_m <= params_.reach_tolerance_m &&
                after.residual_m <= params_.reach_tolerance_m &&
                LimitMargin(finger, there.q) >= params_.limit_margin_rad;
@@ -278,7 +281,9 @@ void ContactChooser::Select(const ContactRequest& request, ContactChoice* out) c
     return c.reached && c.spacing_m >= request.min_spacing_m;
   };
   auto clear = [&](const ContactCandidate& c) {
-    return c.link_clearance_m >= -params_.link_tolerance_m;
+    return c.link_clearance_m >= -params_.link_tolerance_m &&
+           (params_.max_contact_angle_rad <= 0 ||
+            c.contact_angle_rad <= params_.max_contact_angle_rad);
   };
   const ContactCandidate& gait = choice.candidates[0];
   if (viable(gait) && clear(gait)) {

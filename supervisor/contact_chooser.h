@@ -39,6 +39,10 @@ struct ContactCandidate {
   // The least clearance of the finger's links from the felt surface there and after the turn;
   // infinite where the model knows nothing near them.
   double link_clearance_m = std::numeric_limits<double>::infinity();
+  // Round the tip from its front where it lands: the tip's axis at `joints` against the
+  // surface's normal there (the simulator's truth of the runs: past ~100 deg the finger's link
+  // takes the load within a second on every other landing on an ellipsoid).
+  double contact_angle_rad = 0.0;
   double spacing_m = std::numeric_limits<double>::infinity();  // to the nearest other tip
   double support_n = 0.0;   // the weakest of the six directions
 };

@@ -168,11 +168,14 @@ Eigen::Vector3d Gait::ChooseContact(int f, const Eigen::Vector3d& point,
   const ContactChoice choice = chooser_->Choose(request, board_->view, board_->surface);
   if (choice.index == 0) return point;
   const ContactCandidate& c = choice.chosen();
+  auto degrees = [](double rad) { return Fixed(rad * 180.0 / M_PI, 0); };
+  const ContactCandidate& own = choice.candidates[0];
   *why += std::string(why->empty() ? "" : ", ") + "at " + Fixed(c.offset_rad) +
           " rad from the gait's point (" + choice.why + ": links " +
-          Fixed(1e3 * c.link_clearance_m, 1) + " mm off, support " + Fixed(c.support_n) +
-          " N; there " + Fixed(1e3 * choice.candidates[0].link_clearance_m, 1) + " mm, " +
-          Fixed(choice.candidates[0].support_n) + " N)";
+          Fixed(1e3 * c.link_clearance_m, 1) + " mm off, " + degrees(c.contact_angle_rad) +
+          " deg round the tip, support " + Fixed(c.support_n) + " N; there " +
+          Fixed(1e3 * own.link_clearance_m, 1) + " mm, " + degrees(own.contact_angle_rad) +
+          " deg, " + Fixed(own.support_n) + " N)";
   return c.tip;
 }
 

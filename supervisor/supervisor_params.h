@@ -125,6 +125,9 @@ struct ContactChoiceParams {
   // Where the felt surface is unknown, a link is measured against the felt tangent planes
   // within about this distance of it (0: such a link counts as clear).
   double extend_surface_m = 0.0;
+  // With this > 0 (rad): a candidate counts as clear only if its tip lands within this of its
+  // front (ContactCandidate::contact_angle_rad, the IK's posture against the felt normal).
+  double max_contact_angle_rad = 0.0;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -138,6 +141,7 @@ struct ContactChoiceParams {
     a->Visit(DMPL_NVP(better_support), AtLeast(0));
     a->Visit(DMPL_NVP(clear_steps));
     a->Visit(DMPL_NVP(extend_surface_m), AtLeast(0));
+    a->Visit(DMPL_NVP(max_contact_angle_rad), InRange(0, 3.141592653589793));
   }
 };
 

@@ -45,8 +45,9 @@ struct NormalsAimParams {
   double friction_along_gravity = 0.0;
   double held_time_constant_s = 0.1;  // s: the low-pass of what the pushes held up
   double level_push_sine = 0.7;  // a push within asin(this) of level carries its own part
-  // Only once the palm's normal is this far from up (rad): palm up the palm cradles the object
-  // and the level contacts' friction carries it (measured: docs/benchmarks.md, stop 42).
+  // Only once the palm's normal is at least this far from up (rad; 0: always): palm up the palm
+  // cradles the object and the level contacts' friction carries it (measured:
+  // docs/benchmarks.md, stop 42).
   double gravity_balance_from_rad = 0.7853981633974483;
   // A grip force leans at most this far from its contact's normal toward where the normals meet
   // (rad; pi: never clamped): a tip pushes within its friction cone or slides, and where the

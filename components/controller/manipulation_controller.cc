@@ -587,10 +587,11 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
   // carry the weight, the pushes below carry it and this reads it; the bounded plan then keeps
   // holding it (low-passed: an explore's jolt is not a weight). Only once the palm (its normal,
   // the palm frame's x) faces away from up: palm up the palm cradles the object and the level
-  // contacts' friction carries it, and the plan is the one of before.
+  // contacts' friction carries it, and the plan is the one of before. At least the angle: 0 is
+  // every orientation, palm up too.
   const bool balance_gravity =
       params_.normals_aim.enabled && params_.normals_aim.friction_along_gravity > 0 &&
-      -gravity_.x() < std::cos(params_.normals_aim.gravity_balance_from_rad);
+      -gravity_.x() <= std::cos(params_.normals_aim.gravity_balance_from_rad);
   if (balance_gravity) {
     double held = 0.0;
     for (int f = 0; f < nf; ++f) {

@@ -151,6 +151,37 @@ TEST(ContactChooserTest, APointThatPutsALinkIntoTheFeltSurfaceGivesWayToAClearOn
   EXPECT_GT(chosen.support_n, 1.0);
 }
 
+// Each candidate's landing angle is its tip's axis (forward kinematics of the IK's posture)
+// against the surface's normal there. With a bound below the gait's own point's angle, a
+// candidate that lands nearer the tip's front is taken instead.
+TEST(ContactChooserTest, APointThatLandsFarRoundTheTipGivesWayToOneNearerItsFront) {
+  const HandModel model = testing::LoadHand();
+  const HandKinematics kin(model);
+  const Grasp g = SphereGrasp();
+  const Eigen::AngleAxisd none(0.0, Eigen::Vector3d::UnitX());
+  const int ring = 3;
+  const ContactRequest r = Request(g, ring, none, none);
+  const ContactChoice free = MakeChooser(model).Choose(r, g.view, g.surface);
+  for (const ContactCandidate& c : free.candidates) {
+    Eigen::Vector3d tip, axis;
+    kin.finger(ring).TipFrame(c.joints, &tip, &axis);
+    EXPECT_NEAR(c.contact_angle_rad, std::acos(-axis.dot(c.outward)), 1e-9);
+  }
+  // At its home the ring finger touches the sphere with the side of its tip (the gait's grasp).
+  const double own = free.candidates[0].contact_angle_rad;
+  EXPECT_GT(own, 1.2);
+  EXPECT_LT(own, 1.8);
+  ContactChoiceParams params;
+  params.enabled = true;
+  params.max_contact_angle_rad = own - 0.05;
+  const ContactChoice bounded =
+      ContactChooser(model, params, SupportParams{}).Choose(r, g.view, g.surface);
+  ASSERT_NE(bounded.index, 0) << bounded.why;
+  EXPECT_LE(bounded.chosen().contact_angle_rad, own - 0.05);
+  EXPECT_TRUE(bounded.chosen().reached);
+  EXPECT_GE(bounded.chosen().link_clearance_m, -0.002);
+}
+
 // Turning the held sphere about the palm's normal carries each tip round it: half a radian
 // either way every finger's links stay out of it; a whole radian one way brings the ring
 // finger's links into it past half-way, and that finger is named.
