@@ -3,7 +3,7 @@
 // points around the gait's own (GaitGeometry::ExplorePoint), one that
 //   (a) the finger reaches with its tip: IK of the hand model within the joints' limits, and
 //       its links (not its tip) clear of the felt surface, both where it lands and after the
-//       turn it then rides with the object;
+//       turn it then rides with the object (and, with a bound, its tip landing near its front);
 //   (b) leaves a grasp that can carry a load: the weakest, over the palm's six directions, of
 //       what the new contact and the other fingers' can hold within the friction the gait
 //       plans with (grasp_support.h: SupportAlong);

@@ -3,6 +3,7 @@
 // surface, gives way to a candidate that is reached, clear and supported.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "components/hand/testing/project_hand.h"
@@ -165,7 +166,8 @@ TEST(ContactChooserTest, APointThatLandsFarRoundTheTipGivesWayToOneNearerItsFron
   for (const ContactCandidate& c : free.candidates) {
     Eigen::Vector3d tip, axis;
     kin.finger(ring).TipFrame(c.joints, &tip, &axis);
-    EXPECT_NEAR(c.contact_angle_rad, std::acos(-axis.dot(c.outward)), 1e-9);
+    EXPECT_NEAR(c.contact_angle_rad, std::acos(std::clamp(-axis.dot(c.outward), -1.0, 1.0)),
+                1e-9);
   }
   // At its home the ring finger touches the sphere with the side of its tip (the gait's grasp).
   const double own = free.candidates[0].contact_angle_rad;
