@@ -462,6 +462,21 @@ class LandingsTest(unittest.TestCase):
         row = next(line for line in lines if line.startswith("tilt: within 10 deg"))
         self.assertIn("-10 deg", row)
 
+    def test_a_contact_that_flickers_as_the_tip_settles_is_read_just_after(self):
+        # F's contact reads lost from 1.88 to 1.92 s round its landing at 1.9 s (a soft contact
+        # settling): its landing is read at 1.92 s; R's tip stays off from 0.8 to 0.9 s: none.
+        run = self.run_of()
+        t = run.tactile.t
+        touching = np.array(run.tactile["in_contact"])
+        touching[(t >= 1.88 - 1e-9) & (t < 1.92 - 1e-9), 1] = False
+        touching[(t >= 0.8 - 1e-9) & (t < 0.9 - 1e-9), 3] = False
+        run.tactile = Series(t, {"in_contact": touching, "link_force": run.tactile["link_force"]})
+        rows = []
+        found = landings(run, 0.05, 1.0, angle_at=lambda f, i: rows.append((f, i)) or 1.0)
+        self.assertEqual(found[1].angle_after_deg, 1.0)
+        self.assertIn((1, 192), rows)
+        self.assertTrue(math.isnan(found[0].angle_after_deg))
+
     def test_the_tilt_is_the_normal_against_the_direction_from_the_centre(self):
         hand = load_hand()
         names = [j.name for j in hand.joints if j.kind == "revolute"]

@@ -31,6 +31,9 @@ from .losses import ContactAngles, _run_settings, missing_channels
 from .phases import kind, phases
 
 WITHIN_S = 1.0  # a link taking the load this soon after a landing is counted against it
+# A contact read this near an explore's start or end is its own: a soft contact (MuJoCo's)
+# flickers for a few ticks as a tip settles or lets go.
+SETTLE_S = 0.05
 
 
 @dataclass
@@ -83,8 +86,14 @@ class SurfaceTilt:
         return float(np.degrees(np.arccos(np.clip(tip[:3, 2] @ -out, -1.0, 1.0))))
 
 
-def _row(t, when):
-    return max(int(np.searchsorted(t, when, side="right")) - 1, 0)
+def _touching_row(t, touching, t0, t1, last):
+    """The last (or first) row in [t0, t1] at which the finger touched, or the row at or just
+    before t0 when the window holds none; None when it did not touch there either."""
+    rows = np.flatnonzero((t >= t0 - 1e-9) & (t <= t1 + 1e-9) & touching)
+    if len(rows):
+        return int(rows[-1] if last else rows[0])
+    row = max(int(np.searchsorted(t, t0 if not last else t1, side="right")) - 1, 0)
+    return row if touching[row] else None
 
 
 def landings(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], within=WITHIN_S,
@@ -105,14 +114,15 @@ def landings(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], within=
         if parts[1] not in fingers:
             continue
         f, end = fingers.index(parts[1]), start + duration
-        before, after = _row(t, start), _row(t, end)
+        before = _touching_row(t, touching[:, f], start - SETTLE_S, start, last=True)
+        after = _touching_row(t, touching[:, f], end, end + SETTLE_S, last=False)
         later = (t > end) & (t <= end + within) & (link[:, f] > link_n)
         out.append(Landing(
             float(end), parts[1],
-            angle_at(f, before) if touching[before, f] else float("nan"),
-            angle_at(f, after) if touching[after, f] else float("nan"),
-            tilt_at(f, after) if touching[after, f] else float("nan"),
-            sphere_at(f, after) if touching[after, f] else float("nan"),
+            angle_at(f, before) if before is not None else float("nan"),
+            angle_at(f, after) if after is not None else float("nan"),
+            tilt_at(f, after) if after is not None else float("nan"),
+            sphere_at(f, after) if after is not None else float("nan"),
             float(t[later][0] - end) if later.any() else float("nan")))
     return out
 
