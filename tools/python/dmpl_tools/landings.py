@@ -87,8 +87,9 @@ class SurfaceTilt:
 
 
 def _touching_row(t, touching, t0, t1, last):
-    """The last (or first) row in [t0, t1] at which the finger touched, or the row at or just
-    before t0 when the window holds none; None when it did not touch there either."""
+    """The last (or first) row in [t0, t1] at which the finger touched; when the window holds
+    none (truth sparser than it), the row at or just before t1 (or t0) if the finger touched
+    there; else None."""
     rows = np.flatnonzero((t >= t0 - 1e-9) & (t <= t1 + 1e-9) & touching)
     if len(rows):
         return int(rows[-1] if last else rows[0])
