@@ -17,17 +17,14 @@ grasp chart runs its tasks; it lands when that phase ends. Needs the truth at le
 ticks: any record policy but none.
 """
 import argparse
-import json
 import sys
-import tempfile
-from dataclasses import asdict, dataclass
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
 from . import experiment
-from .logdata import Columns, LogData, LogError, extract
-from .losses import ContactAngles, _run_settings, missing_channels
+from .logdata import LogError
+from .losses import ContactAngles, read_run, write_rows
 from .phases import kind, phases
 
 WITHIN_S = 1.0  # a link taking the load this soon after a landing is counted against it
@@ -129,16 +126,7 @@ def landings(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], within=
 
 
 def _landings_of(log, within):
-    if not Path(log).is_file():
-        raise LogError(f"no such log '{log}'")
-    link_n, hand = _run_settings(log)
-    with tempfile.TemporaryDirectory(prefix="dmpl-landings-") as tmp:
-        extract(log, tmp)
-        data = LogData(Columns(tmp))
-        missing = missing_channels(data)
-        if missing:
-            raise LogError(" and ".join(missing) + " missing (recorded with --record none, or "
-                           "not a dmpl run)")
+    with read_run(log, "dmpl-landings-") as (data, link_n, hand):
         tilt = SurfaceTilt(data, hand)
         return landings(data, link_n, within, ContactAngles(data, hand), tilt.tilt,
                         tilt.on_sphere)
@@ -209,14 +197,8 @@ def main(argv=None):
             print(f"{log}: {r.t:7.2f} s {r.finger:2s} {r.angle_before_deg:4.0f} -> "
                   f"{r.angle_after_deg:4.0f} deg round the tip, surface tilted "
                   f"{r.tilt_deg:3.0f} deg (on a sphere: {r.on_sphere_deg:4.0f}){link}")
-    if args.json:
-        rows = [{k: (None if isinstance(v, float) and np.isnan(v) else v)
-                 for k, v in dict(asdict(r), log=str(log)).items()} for log, r in every]
-        try:
-            Path(args.json).write_text(json.dumps(rows, indent=1, allow_nan=False))
-        except OSError as e:
-            print(f"landings: cannot write {args.json}: {e}", file=sys.stderr)
-            failed += 1
+    if args.json and not write_rows(args.json, every, "landings"):
+        failed += 1
     print("\n".join(summary_lines([r for _, r in every], args.within)))
     return 2 if failed else 0
 

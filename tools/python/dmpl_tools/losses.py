@@ -22,6 +22,7 @@ import re
 import sys
 import tempfile
 from collections import Counter
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -185,18 +186,40 @@ def _run_settings(log):
         return link_n, None
 
 
-def _recoveries_of(log):
-    """[Recovery] of one log (its columns read while the contact angles need them)."""
+@contextmanager
+def read_run(log, prefix="dmpl-run-"):
+    """A recorded run as (LogData, link contact threshold, hand or None), its columns kept on
+    disk while the block runs (the contact angles read them); LogError for a missing log or one
+    without the supervisor's status and the simulator's truth."""
     if not Path(log).is_file():
         raise LogError(f"no such log '{log}'")
     link_n, hand = _run_settings(log)
-    with tempfile.TemporaryDirectory(prefix="dmpl-losses-") as tmp:
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp:
         extract(log, tmp)
         data = LogData(Columns(tmp))
         missing = missing_channels(data)
         if missing:
             raise LogError(" and ".join(missing) + " missing (recorded with --record none, or "
                            "not a dmpl run)")
+        yield data, link_n, hand
+
+
+def write_rows(path, every, tool):
+    """Writes [(log, dataclass row)] to `path` as JSON (NaN as null); False, said on stderr
+    under the tool's name, when it cannot."""
+    rows = [{k: (None if isinstance(v, float) and np.isnan(v) else v)
+             for k, v in dict(asdict(r), log=str(log)).items()} for log, r in every]
+    try:
+        Path(path).write_text(json.dumps(rows, indent=1, allow_nan=False))
+    except OSError as e:
+        print(f"{tool}: cannot write {path}: {e}", file=sys.stderr)
+        return False
+    return True
+
+
+def _recoveries_of(log):
+    """[Recovery] of one log."""
+    with read_run(log, "dmpl-losses-") as (data, link_n, hand):
         return recoveries(data, link_n, ContactAngles(data, hand))
 
 
@@ -230,14 +253,8 @@ def main(argv=None):
         for r in found:
             every.append((log, r))
             print(f"{log}: {_line(r)}")
-    if args.json:
-        rows = [{k: (None if isinstance(v, float) and np.isnan(v) else v)
-                 for k, v in dict(asdict(r), log=str(log)).items()} for log, r in every]
-        try:
-            Path(args.json).write_text(json.dumps(rows, indent=1, allow_nan=False))
-        except OSError as e:
-            print(f"losses: cannot write {args.json}: {e}", file=sys.stderr)
-            unwritten = True
+    if args.json and not write_rows(args.json, every, "losses"):
+        unwritten = True
     counts = tally([r for _, r in every])
     if counts:
         print(f"\n{'cause':20s} {'phase':22s} {'count':>5s}")
