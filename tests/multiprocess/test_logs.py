@@ -30,11 +30,13 @@ from dmpl_tools.export import export
 from dmpl_tools.hand_geometry import load_hand
 from dmpl_tools.logdata import LogData, Series
 from dmpl_tools.landings import SurfaceTilt, landings, summary_lines
-from dmpl_tools.losses import ContactAngles, recoveries, tally
+from dmpl_tools.losses import ContactAngles, recoveries, tally, write_rows
 from dmpl_tools.phases import kind, summarize
 from dmpl_tools.report import make_report, recovery_lines
 from dmpl_tools.run import run_experiment, strict_json, write_summary
 from dmpl_tools.sweep import load_cases, run_sweep
+from dmpl_tools.timeline import elevation_deg, lines, timeline
+from dmpl_tools import timeline as timeline_tool
 
 EXP = Path(mp.ROOT) / "configs/experiments"
 FIG8 = EXP / "fig8_sphere.yaml"
@@ -501,6 +503,96 @@ class LandingsTest(unittest.TestCase):
         # Out of the object toward the tip is -axis: a front contact faces it (tilt 0), a side
         # one is 90 deg off it; on a sphere about that centre either would touch the front.
         np.testing.assert_allclose(out, [(0.0, 0.0), (90.0, 0.0)], atol=1e-6)
+
+
+class TimelineTest(unittest.TestCase):
+    """A synthetic run at 100 Hz, palm up (gravity along -x): the object sinks 5 mm while T
+    explores; R's contact stands 10 mm above the centre of a 25 mm sphere; F's link takes 1.5 N
+    at 1.0 s; the supervisor and the controller speak at 0.5 and 0.9 s."""
+
+    @staticmethod
+    def run_of():
+        t = np.round(np.arange(0.0, 2.0, 0.01), 2)
+        n = len(t)
+        data = type("Run", (), {})()
+        data.fingers = ["T", "F", "M", "R"]
+        position = np.tile([0.07, 0.0, 0.015], (n, 1))
+        position[:, 0] -= np.clip(t - 0.5, 0.0, 0.5) * 0.01     # 5 mm toward the palm by 1 s
+        data.object = Series(t, {"position": position})
+        data.gravity = np.tile([-9.81, 0.0, 0.0], (n, 1))
+        touching = np.ones((n, 4), dtype=bool)
+        touching[t >= 0.5, 0] = False                            # T lifts to explore
+        contact = position[:, None, :] + np.array(
+            [[0, 0, -0.025], [0, 0.025, 0], [0, 0, 0.025],
+             [0.010, -np.sqrt(0.025**2 - 0.010**2), 0]])[None, :, :]
+        link = np.zeros((n, 4))
+        link[t >= 1.0, 1] = 1.5
+        data.tactile = Series(t, {"force": np.full((n, 4), 2.0), "link_force": link,
+                                  "in_contact": touching, "position": contact})
+        role = np.ones((n, 4), dtype=int)
+        role[t >= 0.5, 0] = 2
+        desired = np.full((n, 4), 2.0)
+        desired[t >= 0.5, 0] = 0.1
+        data.controller = Series(t, {"role": role, "desired_force": desired,
+                                     "force": np.full((n, 4), 1.9),
+                                     "events": [(0.9, 3, "F", "F touches with a link"),
+                                                (1.95, 3, "T", "T touches")]})
+        action = ["A1 TFMR rotate"] * n
+        note = [""] * n
+        for i in np.flatnonzero(t >= 0.5):
+            action[i], note[i] = "A13 T explore", "T explores; the others hold 1.2 N"
+        data.supervisor = Series(t, {"last_action": action, "grasp_state": ["Tasks"] * n,
+                                     "note": note})
+        return data
+
+    def test_rows_say_the_sink_the_roles_the_elevations_and_the_links(self):
+        rows, words = timeline(self.run_of(), 0.4, 1.2, every=0.1,
+                               angle_at=lambda f, i: 80.0 + f)
+        self.assertEqual([round(r.t, 2) for r in rows], [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0,
+                                                         1.1, 1.2])
+        self.assertAlmostEqual(rows[0].sink_mm, 0.0)
+        self.assertAlmostEqual(rows[6].sink_mm, 5.0, places=6)   # sunk along gravity by 1.0 s
+        first, exploring = rows[0].fingers, rows[2].fingers
+        self.assertEqual((first["T"].role, exploring["T"].role), ("g", "e"))
+        self.assertEqual((exploring["T"].asked_n, exploring["T"].sensed_n), (0.1, 1.9))
+        # R 10 mm above the level through the centre of a 25 mm sphere: asin(0.4).
+        self.assertAlmostEqual(first["R"].elevation_deg, np.degrees(np.arcsin(0.4)), places=6)
+        self.assertAlmostEqual(first["F"].elevation_deg, 0.0, places=6)
+        self.assertEqual(first["R"].round_tip_deg, 83.0)
+        # A tip off the object has no contact to read.
+        self.assertTrue(math.isnan(exploring["T"].elevation_deg))
+        self.assertTrue(math.isnan(exploring["T"].round_tip_deg))
+        self.assertEqual(rows[6].fingers["F"].link_n, 1.5)
+        # The words in the stretch, in time order; the controller's at 1.95 s lies outside it.
+        self.assertEqual([w for _, w in words],
+                         ["[A13 T explore | Tasks] T explores; the others hold 1.2 N",
+                          "controller: F touches with a link"])
+        printed = lines(rows, words)
+        self.assertIn("T: role asked>sensed N", printed[0])
+        self.assertTrue(printed[2].startswith("  0.500 -- [A13 T explore"))  # before 0.5's row
+        self.assertIn("LINK 1.50", next(p for p in printed if p.startswith("  1.000 ")))
+        self.assertNotIn("LINK", next(p for p in printed if p.startswith("  0.900 ") and
+                                      "--" not in p))
+        # As JSON a finger's unknowns are null, however deep they sit.
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "rows.json"
+            self.assertTrue(write_rows(path, [("run.lcmlog", r) for r in rows], "timeline"))
+            saved = json.loads(path.read_text())
+        self.assertIsNone(saved[2]["fingers"]["T"]["elevation_deg"])
+        self.assertEqual(saved[2]["fingers"]["T"]["role"], "e")
+
+    def test_the_elevation_is_against_gravity_and_unknown_without_it(self):
+        self.assertAlmostEqual(elevation_deg([0.0, 0.0, 1.0], [0, 0, 0], [0, 0, -9.81]), 90.0)
+        self.assertAlmostEqual(elevation_deg([1.0, 0.0, -1.0], [0, 0, 0], [0, 0, -9.81]), -45.0)
+        self.assertTrue(math.isnan(elevation_deg([1.0, 0, 0], [0, 0, 0], [0, 0, 0])))
+
+    def test_the_command_names_a_bad_stretch_and_a_missing_log(self):
+        with self.assertRaises(SystemExit) as e:
+            timeline_tool.main(["x.lcmlog", "--from", "2", "--to", "1"])
+        self.assertEqual(e.exception.code, 2)
+        with tempfile.TemporaryDirectory() as tmp:
+            missing = str(Path(tmp) / "none.lcmlog")
+            self.assertEqual(timeline_tool.main([missing, "--from", "1"]), 2)
 
 
 class SummariesTest(unittest.TestCase):

@@ -136,7 +136,8 @@ class LogData:
             # NaN in logs from before the simulator published it.
             "link_force": _get(truth, "tactile_link_force", (nf,)) if "tactile_link_force" in truth
             else np.full((len(_t(truth)), nf), np.nan),
-            "in_contact": _get(truth, "tactile_in_contact", (nf,), bool)})
+            "in_contact": _get(truth, "tactile_in_contact", (nf,), bool),
+            "position": _get(truth, "tactile_position", (nf, 3))})
         # Gravity in the palm frame (m/s^2); NaN in logs from before the simulator published it.
         self.gravity = (_get(truth, "gravity", (3,)) if "gravity" in truth
                         else np.full((len(_t(truth)), 3), np.nan))
@@ -209,6 +210,7 @@ class LogData:
         events = columns.table(use, "events")
         self.controller = Series(_t(ctl), {
             "desired_force": _get(ctl, "desired_force", (nf,)),
+            "force": _get(ctl, "force", (nf,)),  # what the tip's sensor reads
             # The grip force planned per finger (adapted to the load); NaN in logs without it.
             "grip_force": ctl["grip_force_n"] if "grip_force_n" in ctl
             else np.full(len(_t(ctl)), np.nan),

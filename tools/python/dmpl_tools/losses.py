@@ -204,11 +204,21 @@ def read_run(log, prefix="dmpl-run-"):
         yield data, link_n, hand
 
 
+def _without_nan(v):
+    """`v` with every NaN, however deep in dicts and lists, as None (JSON's null)."""
+    if isinstance(v, float) and np.isnan(v):
+        return None
+    if isinstance(v, dict):
+        return {k: _without_nan(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_without_nan(x) for x in v]
+    return v
+
+
 def write_rows(path, every, tool):
     """Writes [(log, dataclass row)] to `path` as JSON (NaN as null); False, said on stderr
     under the tool's name, when it cannot."""
-    rows = [{k: (None if isinstance(v, float) and np.isnan(v) else v)
-             for k, v in dict(asdict(r), log=str(log)).items()} for log, r in every]
+    rows = [_without_nan(dict(asdict(r), log=str(log))) for log, r in every]
     try:
         Path(path).write_text(json.dumps(rows, indent=1, allow_nan=False))
     except OSError as e:
