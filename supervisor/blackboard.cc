@@ -59,6 +59,13 @@ Eigen::Quaterniond Blackboard::SensedOrientation() const {
   return Eigen::Quaterniond(view.object.linear()).normalized();
 }
 
+int Blackboard::Explorer() const {
+  for (size_t k = 0; k < out.task.fingers.size(); ++k) {
+    if (out.task.fingers[k].role == Role::kExplore) return static_cast<int>(k);
+  }
+  return -1;
+}
+
 void Blackboard::LearnSurface() {
   if (edge_detectors.size() != view.fingers.size()) edge_detectors.resize(view.fingers.size());
   if (flat_detectors.size() != view.fingers.size()) flat_detectors.resize(view.fingers.size());

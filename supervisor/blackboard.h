@@ -35,6 +35,8 @@ struct Blackboard {
   // What this tick's fingertip contacts say of the object's surface (view's contact points,
   // normals from the tip centres), of its edges and of the tips' radius.
   void LearnSurface();
+  // The finger the task has exploring (the first, if more), -1 when none does.
+  int Explorer() const;
 
   std::vector<std::string> fingers;
   ControllerView view;

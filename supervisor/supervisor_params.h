@@ -356,6 +356,11 @@ struct SupervisorParams {
   // loses runs in MuJoCo (stop 47, docs/benchmarks.md); the end-over-end turns it was read on
   // need more than it.
   bool replace_on_link = false;
+  // The controller's SINKING (the grip fingers' tips sinking together along gravity while a
+  // finger explores: controller.sink_detector) aborts the explore as a slip does: every finger,
+  // the explorer too, grips again at once, and the gait resumes after the recovery. Off: the
+  // sink is said and the explore goes on.
+  bool catch_sinking = false;
   double link_rest_s = 0.5;
   double link_rest_tip_share = 0.5;
   double stop_after_s = 0.5;            // after the last task (or a failure): stop the simulator
@@ -378,6 +383,7 @@ struct SupervisorParams {
     a->Visit(DMPL_NVP(replace_max_shift_rad), InRange(0, 1.5));
     a->Visit(DMPL_NVP(replace_on_felt_surface));
     a->Visit(DMPL_NVP(replace_on_link));
+    a->Visit(DMPL_NVP(catch_sinking));
     a->Visit(DMPL_NVP(link_rest_s), AtLeast(0));
     a->Visit(DMPL_NVP(link_rest_tip_share), InRange(0, 1));
     a->Visit(DMPL_NVP(stop_after_s), AtLeast(0));

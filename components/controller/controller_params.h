@@ -5,6 +5,7 @@
 #include "components/controller/grip_adapter.h"
 #include "components/controller/weight_observer.h"
 #include "components/controller/load_estimator.h"
+#include "components/controller/sink_detector.h"
 #include "components/runtime/params.h"
 
 namespace dmpl {
@@ -117,6 +118,7 @@ struct ControllerParams {
   LoadParams load;                       // the load the grip learns to carry (load_estimator.h)
   FrictionObserverParams friction_observer;  // the friction the explorers' slides show
   WeightObserverParams weight_observer;      // the weight the tips' forces carry
+  SinkDetectorParams sink_detector;          // the object sinking out of the grip
   // Gravity's direction comes from the palm's IMU (SensedInput::gravity), low-passed with this
   // time constant; the object's weight is not known.
   double gravity_time_constant_s = 0.02;
@@ -201,6 +203,7 @@ struct ControllerParams {
     a->Visit(DMPL_NVP(load));
     a->Visit(DMPL_NVP(friction_observer));
     a->Visit(DMPL_NVP(weight_observer));
+    a->Visit(DMPL_NVP(sink_detector));
     a->Visit(DMPL_NVP(gravity_time_constant_s), AtLeast(0));
     a->Visit(DMPL_NVP(force));
     a->Visit(DMPL_NVP(explore_force));

@@ -63,6 +63,7 @@ enum class EventType : int8_t {
   kSlip = 9,
   kLinkContact = 10,  // a finger touches with a link, not its tip (value: the torque, N m)
   kLinkReleased = 11,  // its links no longer touch (after a kLinkContact)
+  kSinking = 12,  // while a finger explores, the grip sinks along gravity (value: m/s)
 };
 
 struct ControllerEvent {

@@ -50,7 +50,8 @@ ManipulationController::ManipulationController(const HandKinematics& kinematics,
       grip_(params.grip_adaptation, params.grip_force_n),
       load_(params.load),
       friction_(params.friction_observer),
-      weight_(params.weight_observer) {
+      weight_(params.weight_observer),
+      sink_(params.sink_detector) {
   DMPL_DEMAND(tick_s > 0);
   out_.fingers.resize(kinematics.num_fingers());
   max_linear_ = params_.max_linear_speed;
@@ -564,6 +565,7 @@ ManipulationController::GripPlan ManipulationController::PlanGrip(
                                                     params_.surface_centre_offset[2]);
   }
   AdaptGrip(in, tips, in_grip, grip_contacts);
+  DetectSink(tips, in_grip);
   const double grip_force = grip_.grip_force();
   g.grip_force = grip_force;
   out_.grip_force_n = grip_force;
@@ -658,6 +660,21 @@ void ManipulationController::AdaptGrip(const SensedInput& in,
     Emit(EventType::kSlip, -1, grip_.load_scale(),
          "slip at " + std::to_string(grip_.slip_speed()) + " m/s: grip raised to " +
              std::to_string(grip_.grip_force()) + " N");
+  }
+}
+
+void ManipulationController::DetectSink(const std::vector<Eigen::Vector3d>& tips,
+                                        const std::vector<bool>& in_grip) {
+  if (!params_.sink_detector.enabled) return;
+  std::vector<std::optional<Eigen::Vector3d>> grip_tips(tips.size());
+  bool exploring = false;
+  for (size_t f = 0; f < tips.size(); ++f) {
+    if (in_grip[f]) grip_tips[f] = tips[f];
+    exploring = exploring || fingers_[f].task.role == Role::kExplore;
+  }
+  if (sink_.Update(now_, grip_tips, gravity_, exploring)) {
+    Emit(EventType::kSinking, -1, sink_.speed(),
+         "the grip sinks along gravity at " + std::to_string(1e3 * sink_.speed()) + " mm/s");
   }
 }
 

@@ -22,6 +22,7 @@
 #include "components/controller/controller_types.h"
 #include "components/controller/force_planner.h"
 #include "components/controller/friction_observer.h"
+#include "components/controller/sink_detector.h"
 #include "components/controller/weight_observer.h"
 #include "components/controller/grip_adapter.h"
 #include "components/controller/load_estimator.h"
@@ -106,6 +107,9 @@ class ManipulationController {
   GripPlan PlanGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips, bool moving);
   void AdaptGrip(const SensedInput& in, const std::vector<Eigen::Vector3d>& tips,
                  const std::vector<bool>& in_grip, int grip_contacts);
+  // SINKING when the grip fingers' tips sink together along gravity while a finger explores
+  // (sink_detector.h).
+  void DetectSink(const std::vector<Eigen::Vector3d>& tips, const std::vector<bool>& in_grip);
   void StepPosition(int f, const Eigen::Vector3d& tip);
   double StepComposite(int f, const SensedTip& sensed, const Eigen::Vector3d& tip,
                        const GripPlan& grip, const ObjectMotionStep& object);
@@ -135,6 +139,7 @@ class ManipulationController {
   LoadEstimator load_;
   FrictionObserver friction_;
   WeightObserver weight_;
+  SinkDetector sink_;
   double held_n_ = 0.0;  // what the pushes hold up against gravity (normals_aim), low-passed
   Eigen::Vector3d gravity_ = Eigen::Vector3d::Zero();  // its direction in the palm frame (IMU)
   bool has_gravity_ = false;

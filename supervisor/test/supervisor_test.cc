@@ -422,6 +422,35 @@ TEST(SupervisorTest, AFingerWhoseLinksMetTheObjectInATurnSitsTheTurnsOut) {
   EXPECT_EQ(last(), "A7 M explore");
 }
 
+TEST(SupervisorTest, ASinkingGripWhileAFingerExploresIsCaughtOnlyWhenAsked) {
+  // The controller says the grip sinks along gravity while the first explorer (R) slides: with
+  // catch_sinking every finger, R too, grips again at once; without it R goes on exploring.
+  for (const bool catching : {true, false}) {
+    TaskParams tp;
+    tp.turn.mode = TurnMode::kFourFingers;
+    tp.angle = 0.35;
+    SupervisorParams sp;
+    sp.catch_sinking = catching;
+    Driver d("fig10_gait", tp, sp);
+    TouchAtTheirHomes(&d);
+    d.view.gravity = -Eigen::Vector3d::UnitX();
+    d.Grasp();
+    for (int i = 0; i < 50 && d.sup.roles()[3] != Role::kExplore; ++i) d.Tick();
+    ASSERT_EQ(d.sup.roles()[3], Role::kExplore);
+    d.Event(EventType::kSinking);
+    const SupervisorOutput& out = d.Tick();
+    if (catching) {
+      EXPECT_EQ(d.sup.grasp_state(), GraspState::Recovering);
+      EXPECT_EQ(d.sup.note().rfind("recovering: the object sinks out of the grip while R explores",
+                                   0), 0u) << d.sup.note();
+      for (const auto& f : out.task.fingers) EXPECT_EQ(f.role, Role::kGrip);
+    } else {
+      EXPECT_EQ(d.sup.grasp_state(), GraspState::Tasks);
+      EXPECT_EQ(d.sup.roles()[3], Role::kExplore);
+    }
+  }
+}
+
 TEST(SupervisorTest, AFingerLeavingToExploreSaysWhatTheOthersHoldAgainstGravity) {
   // Gravity toward M (+z): M carries the sphere; F and R hold it by friction alone (0.1 here,
   // 2.5 N a push: 2 * 0.1 * 2.5 = 0.5 N at most) and T pushes the wrong way. Without R the
