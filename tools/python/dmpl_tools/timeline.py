@@ -117,7 +117,7 @@ def _words(data, start, end):
         if key != said and start <= ti <= end:
             words.append((float(ti), f"[{action or '-'} | {state}] {note}".rstrip()))
         said = key
-    for ti, _, finger, text in data.controller["events"]:
+    for ti, _, _, text in data.controller["events"]:
         if start <= ti <= end:
             words.append((float(ti), f"controller: {text}"))
     return sorted(words, key=lambda w: w[0])
