@@ -126,13 +126,15 @@ void Supervisor::OnControllerEvents(const std::vector<ControllerEvent>& events) 
                                                        " lost its grip contact", e.finger});
         }
         break;
-      case EventType::kSinking:
-        if (params_.catch_sinking && grasp_.is(GraspState::Tasks) && board_.Explorer() >= 0) {
-          grasp_.Process(GraspEvent::Slip,
-                         {"the object sinks out of the grip while " +
-                          board_.fingers[board_.Explorer()] + " explores (" + e.text + ")"});
+      case EventType::kSinking: {
+        const int explorer = board_.Explorer();
+        if (params_.catch_sinking && grasp_.is(GraspState::Tasks) && explorer >= 0) {
+          grasp_.Process(GraspEvent::Slip, {"the object sinks out of the grip while " +
+                                                board_.fingers[explorer] + " explores (" +
+                                                e.text + ")"});
         }
         break;
+      }
       case EventType::kTrackingError:
         if (grasp_.is(GraspState::Tasks)) {
           grasp_.Process(GraspEvent::Slip, {"the object slipped (" + e.text + ")"});

@@ -9,10 +9,12 @@ bool SinkDetector::Update(double time_s,
   double along = 0.0;
   int n = 0;
   const bool sensed = gravity.norm() > 1e-6;
+  const Eigen::Vector3d down = sensed ? Eigen::Vector3d(gravity.normalized())
+                                      : Eigen::Vector3d::Zero();
   for (size_t f = 0; f < grip_tips.size(); ++f) {
     if (!grip_tips[f]) continue;
     grip_set |= 1u << f;
-    if (sensed) along += grip_tips[f]->dot(gravity.normalized());
+    along += grip_tips[f]->dot(down);
     ++n;
   }
   speed_ = 0.0;

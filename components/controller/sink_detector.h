@@ -4,8 +4,8 @@
 // object's equator pushes it along gravity, and a slick or heavy object outgrows the friction),
 // the object sinks, and the fingers give with it: their tips, by forward kinematics of the
 // sensed joints, move along gravity together before the object's estimate (a camera's, with
-// half a centimetre of noise) can say so. Their mean speed along gravity over a short window above a
-// threshold is a sink; the explorer can then take hold again before the object is gone.
+// half a centimetre of noise) can say so. Their mean speed along gravity over a short window
+// above a threshold is a sink; the explorer can then take hold again before the object is gone.
 // Pure: no LCM, no object model.
 #include <deque>
 #include <optional>

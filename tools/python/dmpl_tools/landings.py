@@ -24,7 +24,7 @@ import numpy as np
 
 from . import experiment
 from .logdata import LogError
-from .losses import ContactAngles, read_run, write_rows
+from .losses import ContactAngles, index_at, read_run, write_rows
 from .phases import kind, phases
 
 WITHIN_S = 1.0  # a link taking the load this soon after a landing is counted against it
@@ -90,7 +90,7 @@ def _touching_row(t, touching, t0, t1, last):
     rows = np.flatnonzero((t >= t0 - 1e-9) & (t <= t1 + 1e-9) & touching)
     if len(rows):
         return int(rows[-1] if last else rows[0])
-    row = max(int(np.searchsorted(t, t0 if not last else t1, side="right")) - 1, 0)
+    row = index_at(t, t1 if last else t0)
     return row if touching[row] else None
 
 

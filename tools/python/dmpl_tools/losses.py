@@ -53,7 +53,8 @@ class Recovery:
     recovered: bool       # the grasp chart went back to its tasks
 
 
-def _index_at(t, when):
+def index_at(t, when):
+    """The index of the last row of `t` at or before `when` (0 before the first)."""
     return max(int(np.searchsorted(t, when, side="right")) - 1, 0)
 
 
@@ -61,7 +62,7 @@ def _phase_at(sup, when):
     """(action, seconds it had lasted) of the supervisor's status at `when`."""
     t = np.asarray(sup.t, dtype=float)
     actions = sup["last_action"]
-    i = _index_at(t, when)
+    i = index_at(t, when)
     start = i
     while start > 0 and actions[start - 1] == actions[i]:
         start -= 1
@@ -103,13 +104,13 @@ def _contact_loss(data, f, onset, link_n, angle_at):
     `onset`."""
     tac = data.tactile
     t = np.asarray(tac.t, dtype=float)
-    i_on = _index_at(t, onset)
+    i_on = index_at(t, onset)
     touching = np.asarray(tac["in_contact"][:, f], dtype=bool)
     link = np.nan_to_num(np.asarray(tac["link_force"][:, f], dtype=float))
     if touching[i_on]:
         return "sensed only", onset, float(link[i_on]), angle_at(f, i_on)
     i = i_on
-    first = _index_at(t, onset - LOOK_BACK_S)
+    first = index_at(t, onset - LOOK_BACK_S)
     while i > first and not touching[i - 1]:
         i -= 1
     let_go = float(t[i])
@@ -132,7 +133,7 @@ def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], angle
         if states[i] != "Recovering" or states[i - 1] == "Recovering":
             continue
         onset = float(t[i])
-        reason = _reason(sup["note"], i, _index_at(t, onset + 0.05) + 1)
+        reason = _reason(sup["note"], i, index_at(t, onset + 0.05) + 1)
         end = next((j for j in range(i, len(states)) if states[j] != "Recovering"), None)
         recovered = end is not None and states[end] == "Tasks"
         finger, cause, when, link, angle = "", "other", onset, float("nan"), float("nan")
@@ -150,7 +151,7 @@ def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], angle
         before = float("nan")
         if finger and cause != "link rest":
             f = fingers.index(finger)
-            row = _index_at(np.asarray(data.tactile.t, dtype=float), when - lasted)
+            row = index_at(np.asarray(data.tactile.t, dtype=float), when - lasted)
             if data.tactile["in_contact"][row, f]:
                 before = angle_at(f, row)
         out.append(Recovery(onset, cause, finger, kind(action), action, lasted, link, angle,

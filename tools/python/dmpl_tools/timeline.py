@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .logdata import LogError
-from .losses import ContactAngles, read_run, write_rows
+from .losses import ContactAngles, index_at, read_run, write_rows
 
 EVERY_S = 0.02
 ROLE_LETTERS = {0: "-", 1: "g", 2: "e"}
@@ -47,11 +47,6 @@ class Row:
     object_mm: list         # the object's centre, palm frame
     sink_mm: float          # along gravity since the first row (NaN without gravity sensed)
     fingers: dict = field(default_factory=dict)  # name -> FingerRow
-
-
-def _at(t, when):
-    """The index of the last row at or before `when` (0 before the first)."""
-    return max(int(np.searchsorted(t, when, side="right")) - 1, 0)
 
 
 def elevation_deg(contact, centre, gravity):
@@ -88,7 +83,7 @@ def timeline(data, start, end, every=EVERY_S, angle_at=None):
         if np.all(np.isfinite(g)) and np.linalg.norm(g) > 1e-6:
             sink = float(1e3 * (pos[i] - pos[first]) @ (g / np.linalg.norm(g)))
         row = Row(float(t[i]), [float(v) for v in 1e3 * pos[i]], sink)
-        j = _at(ct, t[i]) if len(ct) else -1
+        j = index_at(ct, t[i]) if len(ct) else -1
         for f, name in enumerate(data.fingers):
             touching = bool(tac["in_contact"][i, f])
             row.fingers[name] = FingerRow(
