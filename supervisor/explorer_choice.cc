@@ -15,14 +15,16 @@ constexpr double kMoreSupportN = 0.05;
 
 ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d& axis_in,
                             double step, int skip, const ControllerView& view,
-                            const SupportLimits& limits, double slack_rad, double need_n,
-                            double palm_side_rad) {
+                            const SupportLimits& limits, const WaitRule& rule) {
   ExplorerChoice choice;
   const Eigen::Vector3d axis = axis_in.normalized();
   choice.furthest = geometry.FurthestFromHome(axis, step, skip, view);
   choice.finger = choice.furthest;
-  if (choice.furthest < 0 || !(slack_rad > 0) || view.gravity.norm() < 0.5) return choice;
-  if (PalmSideElevation(choice.furthest, view) < -palm_side_rad) return choice;
+  if (choice.furthest < 0 || !(rule.slack_rad > 0) || view.gravity.norm() < 0.5) return choice;
+  if (PalmSideElevation(choice.furthest, view) < -rule.palm_side_rad ||
+      view.fingers[choice.furthest].ContactAngle() > rule.max_contact_angle_rad) {
+    return choice;
+  }
   // A finger held in contact without a sensed point (the controller's debounce: a finger that
   // just stopped exploring reads nothing for a moment) leaves the grasp unknown: no verdict.
   for (const FingerView& v : view.fingers) {
@@ -35,10 +37,10 @@ ExplorerChoice NextExplorer(const GaitGeometry& geometry, const Eigen::Vector3d&
   const double reach = geometry.Deviation(choice.furthest, turn, view);
   choice.furthest_support_n = SupportWithout(view, choice.furthest, limits);
   choice.support_n = choice.furthest_support_n;
-  if (choice.furthest_support_n >= need_n) return choice;
+  if (choice.furthest_support_n >= rule.need_n) return choice;
   for (int k = 0; k < static_cast<int>(view.fingers.size()); ++k) {
     if (k == skip || k == choice.furthest || !view.fingers[k].in_contact) continue;
-    if (geometry.Deviation(k, turn, view) < reach - slack_rad) continue;
+    if (geometry.Deviation(k, turn, view) < reach - rule.slack_rad) continue;
     const double support = SupportWithout(view, k, limits);
     if (support > choice.support_n + kMoreSupportN) {
       choice.finger = k;

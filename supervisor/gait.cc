@@ -363,9 +363,9 @@ void Gait::PreferFingerAtRisk(int skip) {
 
 void Gait::ChooseNextExplorer(const Eigen::Vector3d& axis, double step, int skip) {
   const ExplorerSupportParams& e = params_.explorer_support;
+  const WaitRule rule{e.slack_rad, SupportNeeded(), e.palm_side_rad, e.wait_max_contact_angle_rad};
   const ExplorerChoice next =
-      NextExplorer(geometry_, axis, step, skip, board_->view, SupportLimitsNow(),
-                   e.slack_rad, SupportNeeded(), e.palm_side_rad);
+      NextExplorer(geometry_, axis, step, skip, board_->view, SupportLimitsNow(), rule);
   pending_choice_ = {next.grasp_unknown, axis, step, skip};
   if (next.finger < 0) return;
   int finger = next.finger;

@@ -66,6 +66,10 @@ struct ExplorerSupportParams {
   bool check_ride = false;
   double ride_clearance_m = 0.002;
   double ride_limit_margin_rad = 0.05;
+  // The furthest waits for the support only while its contact lies within this angle of its
+  // tip's front (FingerView::ContactAngle): further round, riding on brings its links to the
+  // object.
+  double wait_max_contact_angle_rad = 3.141592653589793;  // (default: any)
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -76,6 +80,7 @@ struct ExplorerSupportParams {
     a->Visit(DMPL_NVP(check_ride));
     a->Visit(DMPL_NVP(ride_clearance_m), InRange(-0.05, 0.05));
     a->Visit(DMPL_NVP(ride_limit_margin_rad), InRange(0, 1));
+    a->Visit(DMPL_NVP(wait_max_contact_angle_rad), InRange(0, 3.141592653589793));
   }
 };
 

@@ -41,6 +41,11 @@ struct Grasp {
 };
 
 const SupportLimits kLimits{0.5, 0.0, 2.5};
+
+WaitRule Rule(double slack_rad, double need_n = std::numeric_limits<double>::infinity(),
+              double palm_side_rad = M_PI / 2) {
+  return {slack_rad, need_n, palm_side_rad, M_PI};
+}
 const Eigen::Vector3d kAxis = Eigen::Vector3d::UnitX();
 
 TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesMoreSupport) {
@@ -56,7 +61,7 @@ TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesM
   ASSERT_GT(g.Deviation(2, step, grasp.view), g.Deviation(1, step, grasp.view));
   ASSERT_LT(g.Deviation(2, step, grasp.view) - g.Deviation(1, step, grasp.view), 0.05);
 
-  const ExplorerChoice by_support = NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06);
+  const ExplorerChoice by_support = NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06));
   EXPECT_EQ(by_support.furthest, 2);
   EXPECT_EQ(by_support.finger, 1);
   // Friction (0.5 of pushes of at most 2.5 N) holds what the pair above leaves; the pair of
@@ -64,24 +69,47 @@ TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesM
   EXPECT_GT(by_support.support_n, by_support.furthest_support_n + 0.5);
   // While the furthest's absence leaves what the grasp needs, the reach rule stands.
   const double left = by_support.furthest_support_n;
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left - 0.01).finger, 2);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left + 0.01).finger, 1);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left - 0.01)).finger, 2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left + 0.01)).finger, 1);
   // Finger 2's contact lies 0.2 rad toward the palm, where its links near the sphere: with the
   // limit at 0.1 rad it moves whatever the others hold without it; at 0.3 rad the support rules.
   EXPECT_NEAR(PalmSideElevation(2, grasp.view), -0.2, 1e-9);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left + 0.01, 0.1).finger,
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left + 0.01, 0.1)).finger,
             2);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.06, left + 0.01, 0.3).finger,
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left + 0.01, 0.3)).finger,
             1);
 
   // No slack, a slack that does not reach finger 0, or gravity not sensed: the reach rule.
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.0).finger, 2);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, 0.02).finger, 2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.0)).finger, 2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.02)).finger, 2);
   ControllerView weightless = grasp.view;
   weightless.gravity.setZero();
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, weightless, kLimits, 0.06).finger, 2);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, weightless, kLimits, Rule(0.06)).finger, 2);
   // The finger skipped (exploring now) is never chosen: finger 3 then.
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, 1, grasp.view, kLimits, 0.06).finger, 3);
+  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, 1, grasp.view, kLimits, Rule(0.06)).finger, 3);
+}
+
+TEST(ExplorerChoiceTest, AFurthestFarRoundItsTipIsNotLetWait) {
+  // The first test's grasp, finger 2 the furthest and finger 1 the support's choice. Finger 2's
+  // tip axis is set so that its contact lies `angle` round its tip (between the tip's axis and
+  // the direction from its centre to the contact): 80 deg it waits, 100 deg it explores.
+  Grasp grasp({0.0, 0.15, -0.2, 0.15});
+  FingerView& furthest = grasp.view.fingers[2];
+  const Eigen::Vector3d into = (furthest.contact - furthest.tip).normalized();
+  const Eigen::Vector3d across = into.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const GaitGeometry g = grasp.Geometry();
+  const double left = NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06))
+                          .furthest_support_n;
+  WaitRule rule = Rule(0.06, left + 0.01);
+  rule.max_contact_angle_rad = M_PI / 2;
+  for (const double degrees : {80.0, 100.0}) {
+    const double angle = degrees * M_PI / 180.0;
+    furthest.tip_axis = std::cos(angle) * into + std::sin(angle) * across;
+    ASSERT_NEAR(furthest.ContactAngle(), angle, 1e-9);
+    const ExplorerChoice choice = NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, rule);
+    EXPECT_EQ(choice.furthest, 2);
+    EXPECT_EQ(choice.finger, degrees < 90.0 ? 1 : 2) << degrees;
+  }
 }
 
 TEST(ExplorerChoiceTest, AFingerWithoutASensedPointCountsForNoSupport) {
@@ -101,7 +129,7 @@ TEST(ExplorerChoiceTest, AFingerWithoutASensedPointCountsForNoSupport) {
   EXPECT_EQ(PalmSideElevation(1, grasp.view), 0.0);
   // And the support rule gives no verdict on a grasp it does not know: the reach rule's finger.
   const ExplorerChoice choice =
-      NextExplorer(grasp.Geometry(), kAxis, 0.1, -1, grasp.view, kLimits, 0.06);
+      NextExplorer(grasp.Geometry(), kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06));
   EXPECT_EQ(choice.finger, 2);
   EXPECT_EQ(choice.finger, choice.furthest);
   EXPECT_TRUE(choice.grasp_unknown);
@@ -113,7 +141,7 @@ TEST(ExplorerChoiceTest, OnALevelGraspTheReachRuleStands) {
   const Grasp grasp({0.0, 0.0, 0.0, 0.0});
   const GaitGeometry g = grasp.Geometry();
   const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
-  const ExplorerChoice choice = NextExplorer(g, z, 0.1, -1, grasp.view, kLimits, M_PI);
+  const ExplorerChoice choice = NextExplorer(g, z, 0.1, -1, grasp.view, kLimits, Rule(M_PI));
   EXPECT_EQ(choice.finger, choice.furthest);
   EXPECT_EQ(choice.finger, g.FurthestFromHome(z, 0.1, -1, grasp.view));
 }
