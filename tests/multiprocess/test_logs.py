@@ -313,8 +313,9 @@ class PhasesTest(unittest.TestCase):
 
 class LossesTest(unittest.TestCase):
     """A synthetic run at 100 Hz: R's link takes the load as a four-finger turn begins (and the
-    grasp recovers), F's tip comes off with no link on it during an explore, then a slip, and a
-    contact the tactile sensing lost while the tip still touched; the run fails in the last."""
+    grasp recovers), F's tip comes off with no link on it during an explore, then a slip, a sink
+    caught while T explored, and a contact the tactile sensing lost while the tip still touched;
+    the run fails in the last."""
 
     @staticmethod
     def run_of(fingers=("T", "F", "M", "R")):
@@ -342,6 +343,8 @@ class LossesTest(unittest.TestCase):
         touching[span(4.0, 4.3), 1] = False          # F's tip comes off; no link on it
         recover(4.2, 4.6, "finger F lost its grip contact")
         recover(6.0, 6.3, "the object slipped (tracking error 0.31 rad)")
+        recover(7.0, 7.3, "the object sinks out of the grip while T explores (the grip sinks "
+                "along gravity at 52 mm/s)")
         recover(8.0, 10.0, "finger M lost its grip contact", then="Failed")  # M still touches
         data = type("Run", (), {})()
         data.fingers = list(fingers)
@@ -353,7 +356,7 @@ class LossesTest(unittest.TestCase):
         recs = recoveries(self.run_of(), link_n=0.05)
         self.assertEqual([(r.cause, r.finger) for r in recs],
                          [("link took the load", "R"), ("tip came off", "F"), ("slip", ""),
-                          ("sensed only", "M")])
+                          ("sink", "T"), ("sensed only", "M")])
         first = recs[0]
         self.assertAlmostEqual(first.t, 2.1)
         self.assertEqual(first.phase, "grip + four turn")
@@ -364,7 +367,8 @@ class LossesTest(unittest.TestCase):
         self.assertAlmostEqual(recs[1].into_phase_s, 0.5)
         self.assertEqual(recs[1].link_force_n, 0.0)
         self.assertTrue(math.isnan(recs[2].link_force_n))
-        self.assertFalse(recs[3].recovered)
+        self.assertTrue(math.isnan(recs[3].angle_at_phase_start_deg))  # the explorer's: none
+        self.assertFalse(recs[4].recovered)
         self.assertEqual(tally(recs)[("link took the load", "grip + four turn")], 1)
         # A link force under the threshold is no link contact.
         self.assertEqual(recoveries(self.run_of(), link_n=5.0)[0].cause, "tip came off")
@@ -376,10 +380,10 @@ class LossesTest(unittest.TestCase):
     def test_the_report_says_why_each_recovery_began(self):
         lines = recovery_lines(self.run_of(), link_n=0.05)
         rows = [line for line in lines if line.startswith("| ") and line[2].isdigit()]
-        self.assertEqual(len(rows), 4)
+        self.assertEqual(len(rows), 5)
         self.assertEqual(rows[0], "| 2.10 | R | link took the load | A9 F grip + A1 TFMR rotate | "
                                   "0.02 | 3.00 | yes |")
-        self.assertTrue(rows[3].endswith("| no |"))
+        self.assertTrue(rows[4].endswith("| no |"))
         self.assertIn("link took the load during grip + four turn: 1", lines[-2])
         run = self.run_of()
         run.supervisor = Series(run.supervisor.t[:150], {k: v[:150] for k, v in

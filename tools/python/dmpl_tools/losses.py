@@ -5,7 +5,9 @@ what the simulator's truth shows of the finger at that moment.
     tools/dmpl losses out/sweeps/NAME/*/seed*/run.lcmlog     # a sweep run with --record analysis
 
 A recovery begins when the supervisor's grasp chart enters Recovering; its note says why: a grip
-finger lost its contact, the object slipped, or a finger rests on a link. For a lost contact the
+finger lost its contact, the object slipped or sank out of the grip while a finger explored
+("sink": the controller's sink detector, caught by the supervisor, names the explorer), or a
+finger rests on a link. For a lost contact the
 truth tells how: the tip left the object while a link of the same finger took the load ("link
 took the load": the link force above `metrics.link_contact_n` within 30 ms before to 100 ms
 after the tip let go), the tip left it with no link on it ("tip came off"), or the tip still
@@ -41,7 +43,7 @@ LOOK_BACK_S = 0.5      # the tip's letting go is looked for this far before the 
 @dataclass
 class Recovery:
     t: float              # s: the recovery began
-    # link took the load | tip came off | sensed only | slip | link rest | other
+    # link took the load | tip came off | sensed only | slip | sink | link rest | other
     cause: str
     finger: str           # '' where the cause names none
     phase: str            # the phase kind when it happened (dmpl_tools.phases.kind)
@@ -139,17 +141,20 @@ def recoveries(data, link_n=experiment.METRICS_DEFAULTS["link_contact_n"], angle
         finger, cause, when, link, angle = "", "other", onset, float("nan"), float("nan")
         lost = re.search(r"finger (\w+) lost its grip contact", reason)
         rests = re.search(r"finger (\w+) rests on a link", reason)
+        sinks = re.search(r"sinks out of the grip while (\w+) explores", reason)
         if lost and lost.group(1) in fingers:
             finger = lost.group(1)
             cause, when, link, angle = _contact_loss(data, fingers.index(finger), onset, link_n,
                                                      angle_at)
         elif rests:
             finger, cause = rests.group(1), "link rest"
+        elif sinks:
+            finger, cause = sinks.group(1), "sink"
         elif "slipped" in reason:
             cause = "slip"
         action, lasted = _phase_at(sup, when)
         before = float("nan")
-        if finger and cause != "link rest":
+        if finger and cause not in ("link rest", "sink"):
             f = fingers.index(finger)
             row = index_at(np.asarray(data.tactile.t, dtype=float), when - lasted)
             if data.tactile["in_contact"][row, f]:
