@@ -422,10 +422,14 @@ TEST(SupervisorTest, AFingerWhoseLinksMetTheObjectInATurnSitsTheTurnsOut) {
   EXPECT_EQ(last(), "A7 M explore");
 }
 
-TEST(SupervisorTest, ASinkingGripWhileAFingerExploresIsCaughtOnlyWhenAsked) {
+TEST(SupervisorTest, ASinkingGripWhileAFingerExploresIsCaughtOnlyWhenAskedOverThePalm) {
   // The controller says the grip sinks along gravity while the first explorer (R) slides: with
-  // catch_sinking every finger, R too, grips again at once; without it R goes on exploring.
-  for (const bool catching : {true, false}) {
+  // catch_sinking and the palm up every finger, R too, grips again at once; without it, or with
+  // the palm held sideways (gravity along -z), R goes on exploring.
+  const Eigen::Vector3d up_palm = -Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d sideways = -Eigen::Vector3d::UnitZ();
+  for (const auto& [catching, gravity] : {std::pair{true, up_palm}, std::pair{false, up_palm},
+                                          std::pair{true, sideways}}) {
     TaskParams tp;
     tp.turn.mode = TurnMode::kFourFingers;
     tp.angle = 0.35;
@@ -433,13 +437,13 @@ TEST(SupervisorTest, ASinkingGripWhileAFingerExploresIsCaughtOnlyWhenAsked) {
     sp.catch_sinking = catching;
     Driver d("fig10_gait", tp, sp);
     TouchAtTheirHomes(&d);
-    d.view.gravity = -Eigen::Vector3d::UnitX();
+    d.view.gravity = gravity;
     d.Grasp();
     for (int i = 0; i < 50 && d.sup.roles()[3] != Role::kExplore; ++i) d.Tick();
     ASSERT_EQ(d.sup.roles()[3], Role::kExplore);
     d.Event(EventType::kSinking);
     const SupervisorOutput& out = d.Tick();
-    if (catching) {
+    if (catching && gravity.x() < 0) {
       EXPECT_EQ(d.sup.grasp_state(), GraspState::Recovering);
       EXPECT_EQ(d.sup.note().rfind("recovering: the object sinks out of the grip while R explores",
                                    0), 0u) << d.sup.note();
