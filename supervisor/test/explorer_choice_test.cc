@@ -61,7 +61,8 @@ TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesM
   ASSERT_GT(g.Deviation(2, step, grasp.view), g.Deviation(1, step, grasp.view));
   ASSERT_LT(g.Deviation(2, step, grasp.view) - g.Deviation(1, step, grasp.view), 0.05);
 
-  const ExplorerChoice by_support = NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06));
+  const ExplorerChoice by_support =
+      NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06));
   EXPECT_EQ(by_support.furthest, 2);
   EXPECT_EQ(by_support.finger, 1);
   // Friction (0.5 of pushes of at most 2.5 N) holds what the pair above leaves; the pair of
@@ -69,19 +70,20 @@ TEST(ExplorerChoiceTest, AFingerNearlyAsFarFromHomeExploresWhenItsAbsenceLeavesM
   EXPECT_GT(by_support.support_n, by_support.furthest_support_n + 0.5);
   // While the furthest's absence leaves what the grasp needs, the reach rule stands.
   const double left = by_support.furthest_support_n;
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left - 0.01)).finger, 2);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left + 0.01)).finger, 1);
+  const auto explorer = [&](const WaitRule& rule) {
+    return NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, rule).finger;
+  };
+  EXPECT_EQ(explorer(Rule(0.06, left - 0.01)), 2);
+  EXPECT_EQ(explorer(Rule(0.06, left + 0.01)), 1);
   // Finger 2's contact lies 0.2 rad toward the palm, where its links near the sphere: with the
   // limit at 0.1 rad it moves whatever the others hold without it; at 0.3 rad the support rules.
   EXPECT_NEAR(PalmSideElevation(2, grasp.view), -0.2, 1e-9);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left + 0.01, 0.1)).finger,
-            2);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.06, left + 0.01, 0.3)).finger,
-            1);
+  EXPECT_EQ(explorer(Rule(0.06, left + 0.01, 0.1)), 2);
+  EXPECT_EQ(explorer(Rule(0.06, left + 0.01, 0.3)), 1);
 
   // No slack, a slack that does not reach finger 0, or gravity not sensed: the reach rule.
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.0)).finger, 2);
-  EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, grasp.view, kLimits, Rule(0.02)).finger, 2);
+  EXPECT_EQ(explorer(Rule(0.0)), 2);
+  EXPECT_EQ(explorer(Rule(0.02)), 2);
   ControllerView weightless = grasp.view;
   weightless.gravity.setZero();
   EXPECT_EQ(NextExplorer(g, kAxis, 0.1, -1, weightless, kLimits, Rule(0.06)).finger, 2);
