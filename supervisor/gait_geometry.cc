@@ -150,8 +150,8 @@ bool GaitGeometry::HomesLevel(const Eigen::Vector3d& gravity) const {
   return true;
 }
 
-bool GaitGeometry::PalmBelow(const Eigen::Vector3d& gravity) {
-  return gravity.norm() > 0.5 && gravity.normalized().x() < 0.0;
+bool GaitGeometry::PalmBelow(const Eigen::Vector3d& gravity, double min_cos) {
+  return gravity.norm() > 0.5 && gravity.normalized().x() < -min_cos;
 }
 
 Eigen::Vector3d GaitGeometry::TowardTipFront(int f, const Eigen::Vector3d& point,

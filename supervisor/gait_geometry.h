@@ -77,8 +77,9 @@ class GaitGeometry {
   // (against `gravity`, palm frame; false while it is not sensed): the palm up or down.
   bool HomesLevel(const Eigen::Vector3d& gravity) const;
   // Whether gravity (palm frame) points into the palm (along -x, the palm normal's opposite):
-  // the object rests toward the palm, and what lies below its centre lies toward the palm.
-  static bool PalmBelow(const Eigen::Vector3d& gravity);
+  // the object rests toward the palm, and what lies below its centre lies toward the palm. With
+  // `min_cos` > 0, only within acos(min_cos) of pointing straight into it.
+  static bool PalmBelow(const Eigen::Vector3d& gravity, double min_cos = 0.0);
   // The explorer's `target` moved forward (about `axis`, by `sign`) until it keeps the clearance
   // from the finger it slides back toward, where that finger will be after `step` (if it rides).
   Eigen::Vector3d KeepClear(int explorer, const Eigen::Vector3d& axis, double sign, double step,

@@ -5,15 +5,9 @@
 
 #include "components/runtime/check.h"
 #include "supervisor/face_surface.h"
+#include "supervisor/gait_geometry.h"
 
 namespace dmpl {
-
-namespace {
-// Gravity (palm frame, x the palm's outward normal) within 45 deg of pointing into the palm.
-bool OverThePalm(const Eigen::Vector3d& gravity) {
-  return gravity.norm() > 0.5 && gravity.normalized().x() < -std::cos(M_PI / 4);
-}
-}  // namespace
 
 Supervisor::Supervisor(std::vector<std::string> fingers, TaskFile tasks, TaskParams task_params,
                        SupervisorParams params, uint64_t seed,
@@ -137,7 +131,8 @@ void Supervisor::OnControllerEvents(const std::vector<ControllerEvent>& events) 
       case EventType::kSinking: {
         const int explorer = board_.Explorer();
         if (params_.catch_sinking && grasp_.is(GraspState::Tasks) && explorer >= 0 &&
-            OverThePalm(board_.view.gravity)) {
+            // Over the palm: gravity within 45 deg of pointing into it.
+            GaitGeometry::PalmBelow(board_.view.gravity, std::cos(M_PI / 4))) {
           grasp_.Process(GraspEvent::Slip, {"the object sinks out of the grip while " +
                                                 board_.fingers[explorer] + " explores (" +
                                                 e.text + ")"});

@@ -107,6 +107,15 @@ TEST(GaitGeometryTest, AnExplorersPointAboveTheEquatorIsLoweredAlongItsMeridianO
   EXPECT_TRUE(g.ExplorePoint(0, tilt, ring.view, none_felt, 0.012, 0.0).isApprox(turned));
 }
 
+TEST(GaitGeometryTest, ThePalmIsBelowWithinTheAngleAsked) {
+  // Gravity 60 deg off pointing into the palm: below it, but not within 45 deg of straight in.
+  const Eigen::Vector3d tilted(-std::cos(M_PI / 3), std::sin(M_PI / 3), 0.0);
+  EXPECT_TRUE(GaitGeometry::PalmBelow(9.81 * tilted));
+  EXPECT_FALSE(GaitGeometry::PalmBelow(9.81 * tilted, std::cos(M_PI / 4)));
+  EXPECT_TRUE(GaitGeometry::PalmBelow(-9.81 * Eigen::Vector3d::UnitX(), std::cos(M_PI / 4)));
+  EXPECT_FALSE(GaitGeometry::PalmBelow(Eigen::Vector3d::Zero()));  // not sensed
+}
+
 TEST(GaitGeometryTest, AnExplorersPointTurnsTowardItsPartnersAntipode) {
   Ring ring(0.037);
   const GaitGeometry g = ring.Geometry(0.0);
